@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The one test command of hydrofmu: installs what it needs, then runs every check.
+#   bash tests/run.sh
+# Exits non-zero on any failure. Works on a fresh machine (Debian, Rust toolchain, CPython 3.11).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "Debian packages"
+missing=()
+python3 -c 'import venv, ensurepip' 2>/dev/null || missing+=(python3-venv)
+command -v unzip >/dev/null || missing+=(unzip)
+if ((${#missing[@]})); then
+  if [[ $(id -u) -eq 0 ]]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
+  else
+    sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
+  fi
+fi
+
+step "Python virtual environment (.venv)"
+if [[ ! -x .venv/bin/python ]]; then
+  python3 -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
+
+step "cargo fmt --check"
+cargo fmt --all -- --check
+
+step "cargo clippy"
+cargo clippy --workspace --all-targets -- -D warnings
+
+step "cargo doc"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+
+step "cargo test"
+cargo test --workspace
+
+step "release build of the FMU binary and fmu-pack"
+cargo build --release --workspace
+
+step "pytest (real FMU archives, built from the current source)"
+HYDROFMU_ROOT="$root" .venv/bin/python -m pytest -q tests/python
