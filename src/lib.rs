@@ -18,3 +18,11 @@
 #![warn(missing_docs)]
 
 pub mod model_description;
+pub mod bem;
+pub mod green;
+pub mod hull;
+pub mod identify;
+pub mod panels;
+pub mod plot;
+pub mod realize;
+pub mod sweep;

@@ -1,0 +1,48 @@
+//! Benchmarks of the hydrodynamic pipeline: one radiation solve, and the full default sweep of
+//! the semicircle (9 DOFs, kR = 0.01 .. 10, 201 points) on 1 and 2 threads.
+//!
+//! ```sh
+//! cargo bench --bench sweep
+//! ```
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use hydrofmu::bem::{self, IrregularFrequencies};
+use hydrofmu::green::FreeSurface;
+use hydrofmu::hull::Hull;
+use hydrofmu::panels::{self, PanelParams};
+use hydrofmu::sweep::{self, SweepParams};
+use std::hint::black_box;
+
+fn single_solve(c: &mut Criterion) {
+    let hull = Hull::semicircle(1.0).unwrap();
+    let mesh = panels::discretize(&hull, &PanelParams::default()).unwrap();
+    c.bench_function("solve one frequency, semicircle, default panels", |b| {
+        b.iter(|| {
+            bem::solve(
+                black_box(&mesh),
+                FreeSurface::Wave { wavenumber: 1.0 },
+                IrregularFrequencies::RemoveWithLid,
+            )
+            .unwrap()
+        })
+    });
+}
+
+fn full_sweep(c: &mut Criterion) {
+    let hull = Hull::semicircle(1.0).unwrap();
+    let mut group = c.benchmark_group("semicircle default sweep");
+    group.sample_size(10);
+    for threads in [1, 2] {
+        let params = SweepParams {
+            threads,
+            ..SweepParams::default()
+        };
+        group.bench_function(format!("{threads} threads"), |b| {
+            b.iter(|| sweep::run(black_box(&hull), Some(0.0), &params, &|_, _| {}).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, single_solve, full_sweep);
+criterion_main!(benches);

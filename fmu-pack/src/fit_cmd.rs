@@ -1,0 +1,308 @@
+//! `fmu-pack fit`: identify the equivalent network of a hull and report it.
+
+use crate::hull_arg;
+use crate::pipeline::{self, Band, Built, FitRequest};
+use crate::sweep_cmd;
+use clap::Args;
+use hydrofmu::plot::{self, Figure, Scale, Style};
+use hydrofmu::realize::NetworkForm;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// Arguments of `fmu-pack fit`.
+#[derive(Args, Debug, Clone)]
+pub struct FitArgs {
+    /// `semicircle`, `circle` or a hull file.
+    pub hull: String,
+    /// Centre depth over radius H/R of the built-in circle.
+    #[arg(long = "depth", value_name = "H_OVER_R")]
+    pub depth: Option<f64>,
+    /// Radius R of the built-in hulls, in metres.
+    #[arg(long, default_value_t = 1.0)]
+    pub radius: f64,
+    /// Comma-separated DOFs to keep (default: all).
+    #[arg(long, value_name = "a,b,..")]
+    pub dofs: Option<String>,
+    /// Frequency band to fit: `MIN:MAX` in kR, or `MIN:MAXrad/s`.
+    #[arg(long, default_value = "0.05:5")]
+    pub band: String,
+    /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
+    #[arg(long = "tol")]
+    pub tolerance: Option<f64>,
+    /// Fixed order (auxiliary DOFs per chain, or poles of the coupled network).
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Network form: series_chain, parallel_bank (one DOF), coupled.
+    #[arg(long)]
+    pub form: Option<String>,
+    /// Panels on the wetted contour.
+    #[arg(long, default_value_t = hydrofmu::panels::PanelParams::default().body_panels)]
+    pub panels: usize,
+    /// Log-spaced sweep grid of kR.
+    #[arg(long, value_name = "MIN:MAX:COUNT", default_value = "0.01:10:201")]
+    pub kr: String,
+    /// Worker threads of the sweep.
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    pub threads: usize,
+    /// Write the network file (XML) here.
+    #[arg(long, value_name = "FILE")]
+    pub network_out: Option<PathBuf>,
+    /// Write one SVG plot of fit against data per matrix entry into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    /// Print the result as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses a network form name.
+pub fn parse_form(name: &str) -> Result<NetworkForm, String> {
+    NetworkForm::from_name(name)
+        .ok_or_else(|| format!("--form '{name}': expected series_chain, parallel_bank or coupled"))
+}
+
+/// Builds the fit request from the command line.
+pub fn request(
+    band: &str,
+    tolerance: Option<f64>,
+    order: Option<usize>,
+    form: Option<&str>,
+) -> Result<FitRequest, String> {
+    Ok(FitRequest {
+        band: Band::parse(band)?,
+        tolerance,
+        order,
+        form: form.map(parse_form).transpose()?,
+    })
+}
+
+/// Runs the sweep and the fit, and reports.
+pub fn run(args: &FitArgs) -> Result<(), String> {
+    let (hull, depth) =
+        hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
+    let sweep_params = hydrofmu::sweep::SweepParams {
+        kr: sweep_cmd::parse_grid(&args.kr)?,
+        panels: hydrofmu::panels::PanelParams {
+            body_panels: args.panels,
+            ..Default::default()
+        },
+        threads: args.threads,
+        ..Default::default()
+    };
+    let request = request(&args.band, args.tolerance, args.order, args.form.as_deref())?;
+    let built = pipeline::build_network(&hull, depth, &sweep_params, &request)?;
+    if let Some(path) = &args.network_out {
+        built
+            .fit
+            .network
+            .write_file(path)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    if let Some(dir) = &args.plots {
+        write_plots(&built, dir)?;
+    }
+    if args.json {
+        println!("{}", json(&built));
+    } else {
+        print!("{}", text(&built));
+    }
+    Ok(())
+}
+
+/// The human-readable report.
+pub fn text(built: &Built) -> String {
+    let fit = &built.fit;
+    let names = &built.response.dof_names;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "network: {} over {} DOFs ({}), order {}, {} auxiliary DOFs",
+        fit.network.form,
+        names.len(),
+        names.join(" "),
+        fit.order,
+        fit.aux_dofs
+    );
+    let _ = writeln!(
+        out,
+        "band: {:.4} .. {:.4} rad/s ({} points); tolerance {:.3} of sqrt(|A_ii A_jj|): {}",
+        fit.band.0,
+        fit.band.1,
+        fit.points,
+        fit.tolerance,
+        if fit.tolerance_met { "met" } else { "NOT met" }
+    );
+    let _ = writeln!(
+        out,
+        "largest relative error {:.4}; sweep {:.3} s, fit {:.3} s ({} iterations)",
+        fit.max_relative_error,
+        built.sweep_time.as_secs_f64(),
+        built.fit_time.as_secs_f64(),
+        fit.iterations
+    );
+    let _ = writeln!(out, "entry errors (max, rms, scale):");
+    for i in 0..names.len() {
+        for j in i..names.len() {
+            let _ = writeln!(
+                out,
+                "  {:>8} {:>8}  max {:.3e}  rms {:.3e}  scale {:.3e}",
+                names[i],
+                names[j],
+                fit.max_error[(i, j)],
+                fit.rms_error[(i, j)],
+                fit.error_scale[(i, j)]
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "parameters (SI, rho = {}, g = {}):",
+        fit.network.rho, fit.network.g
+    );
+    for (b, branch) in fit.network.branches.iter().enumerate() {
+        let direction: Vec<String> = branch.direction.iter().map(|d| format!("{d:.4}")).collect();
+        let _ = writeln!(out, "  branch {b}: direction [{}]", direction.join(", "));
+        for stage in &branch.stages {
+            let _ = writeln!(
+                out,
+                "    m {:.6e} kg/m  k {:.6e} N/m2  c {:.6e} N.s/m2",
+                stage.mass, stage.stiffness, stage.damping
+            );
+        }
+    }
+    out
+}
+
+/// The report as JSON.
+pub fn json(built: &Built) -> String {
+    let fit = &built.fit;
+    let names = &built.response.dof_names;
+    let matrix = |m: &nalgebra::DMatrix<f64>| {
+        let rows: Vec<String> = (0..m.nrows())
+            .map(|i| {
+                let row: Vec<String> = (0..m.ncols()).map(|j| number(m[(i, j)])).collect();
+                format!("[{}]", row.join(","))
+            })
+            .collect();
+        format!("[{}]", rows.join(","))
+    };
+    let branches: Vec<String> = fit
+        .network
+        .branches
+        .iter()
+        .map(|b| {
+            let direction: Vec<String> = b.direction.iter().map(|d| number(*d)).collect();
+            let stages: Vec<String> = b
+                .stages
+                .iter()
+                .map(|s| {
+                    format!(
+                        "{{\"mass\":{},\"stiffness\":{},\"damping\":{}}}",
+                        number(s.mass),
+                        number(s.stiffness),
+                        number(s.damping)
+                    )
+                })
+                .collect();
+            format!(
+                "{{\"direction\":[{}],\"stages\":[{}]}}",
+                direction.join(","),
+                stages.join(",")
+            )
+        })
+        .collect();
+    let dofs: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    format!(
+        "{{\"dofs\":[{}],\"form\":\"{}\",\"order\":{},\"aux_dofs\":{},\"band_rad_per_s\":[{},{}],\
+         \"points\":{},\"tolerance\":{},\"tolerance_met\":{},\"max_relative_error\":{},\
+         \"max_error\":{},\"rms_error\":{},\"error_scale\":{},\"added_mass_inf\":{},\
+         \"rho\":{},\"g\":{},\"branches\":[{}],\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{}}}",
+        dofs.join(","),
+        fit.network.form,
+        fit.order,
+        fit.aux_dofs,
+        number(fit.band.0),
+        number(fit.band.1),
+        fit.points,
+        number(fit.tolerance),
+        fit.tolerance_met,
+        number(fit.max_relative_error),
+        matrix(&fit.max_error),
+        matrix(&fit.rms_error),
+        matrix(&fit.error_scale),
+        matrix(&fit.network.added_mass_inf),
+        number(fit.network.rho),
+        number(fit.network.g),
+        branches.join(","),
+        number(built.sweep_time.as_secs_f64()),
+        number(built.fit_time.as_secs_f64()),
+        fit.iterations
+    )
+}
+
+fn number(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        "null".into()
+    }
+}
+
+/// One SVG per matrix entry i <= j whose scale is nonzero: data (markers) against the network
+/// (lines), real and imaginary parts, in kR. Returns the file names written.
+pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let response = &built.response;
+    let radius = built.sweep.reference_half_beam;
+    let g = response.g;
+    let kr = |omega: f64| omega * omega * radius / g;
+    let names = &response.dof_names;
+    let mut written = Vec::new();
+    for i in 0..names.len() {
+        for j in i..names.len() {
+            if built.fit.error_scale[(i, j)] <= 0.0 {
+                continue;
+            }
+            let mut figure = Figure::new(
+                &format!("A~({}, {}): panel method and network", names[i], names[j]),
+                "kR",
+                "A~ (SI)",
+            );
+            figure.x_scale = Scale::Log;
+            let data = |part: fn(num_complex::Complex64) -> f64| {
+                response
+                    .omega
+                    .iter()
+                    .zip(&response.added_mass)
+                    .map(|(&w, m)| (kr(w), part(m[(i, j)])))
+                    .collect::<Vec<_>>()
+            };
+            let model = |part: fn(num_complex::Complex64) -> f64| {
+                response
+                    .omega
+                    .iter()
+                    .map(|&w| (kr(w), part(built.fit.network.added_mass_tf(w)[(i, j)])))
+                    .collect::<Vec<_>>()
+            };
+            figure.add("Re, panel method", data(|z| z.re), Style::Markers);
+            figure.add("Re, network", model(|z| z.re), Style::Line);
+            figure.add("Im, panel method", data(|z| z.im), Style::Markers);
+            figure.add("Im, network", model(|z| z.im), Style::Line);
+            figure.series[1].colour = 0;
+            figure.series[2].colour = 1;
+            figure.series[3].colour = 1;
+            let (b0, b1) = built.fit.band;
+            figure.caption = format!(
+                "fit band kR {:.3} .. {:.3}; {}",
+                kr(b0),
+                kr(b1),
+                plot::provenance("fmu-pack fit")
+            );
+            let name = format!("fit-{}-{}.svg", names[i], names[j]);
+            std::fs::write(dir.join(&name), figure.to_svg())
+                .map_err(|e| format!("cannot write {}: {e}", dir.join(&name).display()))?;
+            written.push(name);
+        }
+    }
+    Ok(written)
+}

@@ -1,0 +1,81 @@
+//! The HULL argument shared by every subcommand: `semicircle`, `circle` or a hull file.
+
+use hydrofmu::hull::Hull;
+use std::path::Path;
+
+/// Default centre depth over radius of the built-in `circle` when `--depth` is not given.
+pub const DEFAULT_CIRCLE_DEPTH: f64 = 2.0;
+
+/// Resolves `spec` into a hull, keeping only `dofs` when given.
+///
+/// Returns the hull and, for the built-in circles, the centre depth over radius
+/// (0 for the semicircle).
+pub fn resolve(
+    spec: &str,
+    radius: f64,
+    depth: Option<f64>,
+    dofs: Option<&str>,
+) -> Result<(Hull, Option<f64>), String> {
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(format!(
+            "--radius {radius}: the radius must be finite and > 0"
+        ));
+    }
+    let (hull, depth) = match spec {
+        "semicircle" => {
+            if let Some(d) = depth.filter(|d| *d != 0.0) {
+                return Err(format!(
+                    "--depth {d} applies to the circle; the semicircle has H/R = 0"
+                ));
+            }
+            (
+                Hull::semicircle(radius).map_err(|e| e.to_string())?,
+                Some(0.0),
+            )
+        }
+        "circle" => {
+            let d = depth.unwrap_or(DEFAULT_CIRCLE_DEPTH);
+            let hull = if d == 0.0 {
+                Hull::semicircle(radius)
+            } else {
+                Hull::circle(radius, d)
+            };
+            (hull.map_err(|e| e.to_string())?, Some(d))
+        }
+        path => {
+            if depth.is_some() {
+                return Err("--depth applies to the built-in circle only".into());
+            }
+            let path = Path::new(path);
+            if !path.exists() {
+                return Err(format!(
+                    "hull '{}' is neither 'semicircle', 'circle' nor an existing hull file",
+                    path.display()
+                ));
+            }
+            (Hull::from_file(path).map_err(|e| e.to_string())?, None)
+        }
+    };
+    let hull = match dofs {
+        Some(list) => {
+            let names: Vec<&str> = list.split(',').map(str::trim).collect();
+            hull.select_dofs(&names).map_err(|e| e.to_string())?
+        }
+        None => hull,
+    };
+    Ok((hull, depth))
+}
+
+/// Parses `MIN:MAX` into a pair.
+pub fn parse_range(text: &str, what: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [min, max] = parts.as_slice() else {
+        return Err(format!("{what} '{text}': expected MIN:MAX"));
+    };
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("{what} '{text}': '{s}' is not a number"))
+    };
+    Ok((number(min)?, number(max)?))
+}

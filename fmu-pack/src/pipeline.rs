@@ -1,0 +1,200 @@
+//! The pipeline from a hull to a fitted network: sweep -> frequency response -> fit.
+//!
+//! Frequencies are requested in the nondimensional `kR = omega^2 R / g` or in rad/s; the
+//! network is fitted and stored in SI units for the reference `rho` and `g` below, and the FMU
+//! rescales it exactly to the `rho` and `g` a master sets.
+
+use crate::progress::Progress;
+use hydrofmu::hull::Hull;
+use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
+use hydrofmu::model_description::{DEFAULT_G, DEFAULT_RHO};
+use hydrofmu::realize::NetworkForm;
+use hydrofmu::sweep::{self, SweepParams, SweepResult};
+use num_complex::Complex64;
+use std::time::{Duration, Instant};
+
+/// Default fit band in kR: where ship-section radiation forces matter for multibody scenes,
+/// and where a network of few DOFs reaches 1 % (the log divergence of heave-like DOFs below
+/// kR ~ 0.05 would cost many auxiliary DOFs for little effect on a time-domain response).
+pub const DEFAULT_BAND_KR: (f64, f64) = (0.05, 5.0);
+
+/// A frequency band, as the command line gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Band {
+    /// In kR (nondimensional).
+    Wavenumber(f64, f64),
+    /// In rad/s.
+    RadPerSecond(f64, f64),
+}
+
+impl Band {
+    /// Parses `MIN:MAX` (kR) or `MIN:MAXrad/s` (rad/s).
+    pub fn parse(text: &str) -> Result<Band, String> {
+        let (body, rad) = match text.trim().strip_suffix("rad/s") {
+            Some(body) => (body, true),
+            None => (text.trim(), false),
+        };
+        let (min, max) = crate::hull_arg::parse_range(body, "--band")?;
+        if !(min.is_finite() && max.is_finite() && min >= 0.0 && max > min) {
+            return Err(format!(
+                "--band '{text}': the band is empty; need 0 <= MIN < MAX, both finite"
+            ));
+        }
+        Ok(if rad {
+            Band::RadPerSecond(min, max)
+        } else {
+            Band::Wavenumber(min, max)
+        })
+    }
+
+    /// The band in rad/s for a hull of half-beam `radius` under gravity `g`.
+    pub fn rad_per_second(self, radius: f64, g: f64) -> (f64, f64) {
+        match self {
+            Band::RadPerSecond(a, b) => (a, b),
+            Band::Wavenumber(a, b) => ((a * g / radius).sqrt(), (b * g / radius).sqrt()),
+        }
+    }
+
+    /// The band in kR.
+    pub fn wavenumber(self, radius: f64, g: f64) -> (f64, f64) {
+        match self {
+            Band::Wavenumber(a, b) => (a, b),
+            Band::RadPerSecond(a, b) => (a * a * radius / g, b * b * radius / g),
+        }
+    }
+}
+
+/// The panel method's coefficients in SI units for `rho` and `g`:
+/// `omega = sqrt(kR g / R)`, `A~ = rho pi R^2 (A~ / (rho pi R^2))`.
+pub fn frequency_response(result: &SweepResult, rho: f64, g: f64) -> FrequencyResponse {
+    let radius = result.reference_half_beam;
+    let scale = rho * std::f64::consts::PI * radius * radius;
+    FrequencyResponse {
+        dof_names: result.dof_names.clone(),
+        omega: result
+            .kr
+            .iter()
+            .map(|kr| (kr * g / radius).sqrt())
+            .collect(),
+        added_mass: result
+            .added_mass
+            .iter()
+            .map(|m| m * Complex64::new(scale, 0.0))
+            .collect(),
+        added_mass_inf: &result.added_mass_inf * scale,
+        rho,
+        g,
+    }
+}
+
+/// What a scene asks of the network.
+#[derive(Clone, Debug)]
+pub struct FitRequest {
+    /// The band to fit.
+    pub band: Band,
+    /// Tolerance as a fraction of the largest |A~| scale (see `identify`); `None`: 1 %.
+    pub tolerance: Option<f64>,
+    /// Fixed order, or automatic.
+    pub order: Option<usize>,
+    /// Network form; `None`: series chain for one DOF, coupled network for several.
+    pub form: Option<NetworkForm>,
+}
+
+impl Default for FitRequest {
+    fn default() -> Self {
+        Self {
+            band: Band::Wavenumber(DEFAULT_BAND_KR.0, DEFAULT_BAND_KR.1),
+            tolerance: None,
+            order: None,
+            form: None,
+        }
+    }
+}
+
+/// Everything the pipeline produced.
+pub struct Built {
+    /// The sweep (nondimensional).
+    pub sweep: SweepResult,
+    /// The sweep in SI units.
+    pub response: FrequencyResponse,
+    /// The fit.
+    pub fit: FitReport,
+    /// Wall time of the sweep.
+    pub sweep_time: Duration,
+    /// Wall time of the fit.
+    pub fit_time: Duration,
+}
+
+/// Runs the sweep of `hull` and fits the network the request asks for.
+pub fn build_network(
+    hull: &Hull,
+    depth: Option<f64>,
+    sweep_params: &SweepParams,
+    request: &FitRequest,
+) -> Result<Built, String> {
+    if let Some(t) = request.tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(format!("--tol {t}: the tolerance must be finite and > 0"));
+        }
+    }
+    let radius = hull.reference_half_beam();
+    let (kr_min, kr_max) = request.band.wavenumber(radius, DEFAULT_G);
+    let grid = &sweep_params.kr;
+    if grid
+        .iter()
+        .filter(|k| **k >= kr_min && **k <= kr_max)
+        .count()
+        < 3
+    {
+        return Err(format!(
+            "the band kR {kr_min:.4} .. {kr_max:.4} holds fewer than 3 of the sweep's frequencies"
+        ));
+    }
+    let progress = Progress::new("sweep");
+    let start = Instant::now();
+    let sweep = sweep::run(hull, depth, sweep_params, &|d, t| progress.update(d, t))
+        .map_err(|e| e.to_string())?;
+    let sweep_time = start.elapsed();
+    let response = frequency_response(&sweep, DEFAULT_RHO, DEFAULT_G);
+    let form = request.form.unwrap_or(if sweep.dof_names.len() == 1 {
+        NetworkForm::SeriesChain
+    } else {
+        NetworkForm::Coupled
+    });
+    let params = FitParams {
+        form,
+        band: request.band.rad_per_second(radius, DEFAULT_G),
+        tolerance: request.tolerance,
+        order: request.order,
+        ..FitParams::default()
+    };
+    let start = Instant::now();
+    let fit = identify::fit(&response, &params).map_err(|e| e.to_string())?;
+    let fit_time = start.elapsed();
+    Ok(Built {
+        sweep,
+        response,
+        fit,
+        sweep_time,
+        fit_time,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bands_parse_in_kr_and_rad_per_second() {
+        assert_eq!(Band::parse("0.05:4").unwrap(), Band::Wavenumber(0.05, 4.0));
+        assert_eq!(
+            Band::parse("0.5:3rad/s").unwrap(),
+            Band::RadPerSecond(0.5, 3.0)
+        );
+        let (a, b) = Band::Wavenumber(1.0, 4.0).rad_per_second(1.0, 9.81);
+        assert!((a - 9.81f64.sqrt()).abs() < 1e-12 && (b - 2.0 * 9.81f64.sqrt()).abs() < 1e-12);
+        for bad in ["4:1", "1:1", "a:b", "1", "-1:2", "1:inf"] {
+            assert!(Band::parse(bad).is_err(), "{bad}");
+        }
+    }
+}

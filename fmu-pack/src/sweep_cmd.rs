@@ -1,0 +1,132 @@
+//! `fmu-pack sweep`: the coefficient table of a hull.
+
+use crate::hull_arg;
+use crate::progress::Progress;
+use clap::Args;
+use hydrofmu::bem::IrregularFrequencies;
+use hydrofmu::panels::PanelParams;
+use hydrofmu::sweep::{self, SweepParams};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `fmu-pack sweep`.
+#[derive(Args, Debug, Clone)]
+pub struct SweepArgs {
+    /// `semicircle`, `circle` or a hull file (XML, see docs/HULL_FORMAT.md).
+    pub hull: String,
+    /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
+    #[arg(long = "depth", value_name = "H_OVER_R")]
+    pub depth: Option<f64>,
+    /// Radius R of the built-in hulls, in metres.
+    #[arg(long, default_value_t = 1.0)]
+    pub radius: f64,
+    /// Panels on the wetted contour.
+    #[arg(long, default_value_t = PanelParams::default().body_panels)]
+    pub panels: usize,
+    /// Log-spaced grid of kR.
+    #[arg(long, value_name = "MIN:MAX:COUNT", default_value = "0.01:10:201")]
+    pub kr: String,
+    /// Comma-separated DOFs to keep (default: all of the hull's).
+    #[arg(long, value_name = "a,b,..")]
+    pub dofs: Option<String>,
+    /// The seed's plain source method: do not remove irregular frequencies.
+    #[arg(long)]
+    pub plain: bool,
+    /// Discretization levels (N, N/2, N/4, ...) extrapolated to zero panel size; 1 gives the
+    /// plain N-panel result.
+    #[arg(long, default_value_t = SweepParams::default().extrapolation_levels)]
+    pub levels: usize,
+    /// Worker threads.
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    pub threads: usize,
+    /// Output CSV file (`-` for standard output).
+    #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
+    pub output: PathBuf,
+}
+
+/// Parses `MIN:MAX:COUNT`.
+pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [min, max, count] = parts.as_slice() else {
+        return Err(format!("--kr '{text}': expected MIN:MAX:COUNT"));
+    };
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("--kr '{text}': '{s}' is not a number"))
+    };
+    let count = count
+        .trim()
+        .parse::<usize>()
+        .map_err(|_| format!("--kr '{text}': COUNT '{count}' is not a positive integer"))?;
+    sweep::log_grid(number(min)?, number(max)?, count).map_err(|e| e.to_string())
+}
+
+/// Builds the sweep parameters from the command line.
+pub fn params(args: &SweepArgs) -> Result<SweepParams, String> {
+    Ok(SweepParams {
+        kr: parse_grid(&args.kr)?,
+        panels: PanelParams {
+            body_panels: args.panels,
+            ..PanelParams::default()
+        },
+        irregular_frequencies: if args.plain {
+            IrregularFrequencies::Keep
+        } else {
+            IrregularFrequencies::RemoveWithLid
+        },
+        extrapolation_levels: args.levels,
+        threads: args.threads,
+    })
+}
+
+/// Runs the sweep and writes the CSV.
+pub fn run(args: &SweepArgs) -> Result<(), String> {
+    let (hull, depth) =
+        hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
+    let params = params(args)?;
+    let progress = Progress::new("sweep");
+    let start = Instant::now();
+    let result = sweep::run(&hull, depth, &params, &|done, total| {
+        progress.update(done, total)
+    })
+    .map_err(|e| e.to_string())?;
+    let elapsed = start.elapsed();
+    let mut text = Vec::new();
+    result
+        .write_csv(&mut text)
+        .map_err(|e| format!("cannot format the table: {e}"))?;
+    if args.output.as_os_str() == "-" {
+        std::io::stdout()
+            .write_all(&text)
+            .map_err(|e| format!("cannot write to standard output: {e}"))?;
+    } else {
+        std::fs::write(&args.output, &text)
+            .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+    }
+    for warning in &result.warnings {
+        eprintln!("warning: {warning}");
+    }
+    for (kr, reason) in &result.failures {
+        eprintln!("warning: kR = {kr} failed and is left out: {reason}");
+    }
+    let worst_reciprocity = result
+        .reciprocity_residual
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    eprintln!(
+        "{}: {} DOFs, {} frequencies ({} failed), {} body + {} lid panels, {:.3} s wall, \
+         max reciprocity residual {:.1e}",
+        result.hull_name,
+        result.dof_names.len(),
+        result.kr.len(),
+        result.failures.len(),
+        result.panel_counts.0,
+        result.panel_counts.1,
+        elapsed.as_secs_f64(),
+        worst_reciprocity
+    );
+    Ok(())
+}

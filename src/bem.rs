@@ -1,0 +1,317 @@
+//! The source panel method (seed eq. 10 and 13): radiation potentials and the complex added
+//! mass matrix at one frequency.
+//!
+//! The potential of DOF `j` is a distribution of constant-strength sources on the panels,
+//!
+//! ```text
+//! phi_j(x) = sum_p sigma_pj integral_{panel p} G(x, x0) ds0,
+//! ```
+//!
+//! with the free-surface Green function `G` of [`crate::green`]. The panel integrals are exact
+//! (analytic for the Rankine parts, adaptive for the wave part), never the midpoint rule next
+//! to the singularity. Collocation at the body panel centres `x_l` enforces the body condition
+//!
+//! ```text
+//! d(phi_j)/dn (x_l) = n_j(x_l)            (n out of the fluid, into the body)
+//! ```
+//!
+//! and one LU factorization per frequency serves all DOFs as right-hand sides. The complex
+//! added mass follows from
+//!
+//! ```text
+//! A~_ij = rho integral_C n_i phi_j ds  ~  rho sum_l n_i(x_l) phi_j(x_l) L_l  =  a_ij - i b_ij/omega.
+//! ```
+//!
+//! # Irregular frequencies
+//! A source distribution on an open contour fails where the interior problem (Dirichlet on the
+//! contour, free-surface condition on the interior waterplane) resonates: for the semicircle
+//! at kR = 1.8182, 3.2523, 4.7776, ... With [`IrregularFrequencies::RemoveWithLid`] (default),
+//! sources are also placed on the interior lid `y = 0` between the waterline points, and the
+//! extended condition `phi = 0` is imposed at the lid panel centres. The interior problem then
+//! has Dirichlet conditions on its whole boundary and no eigenvalues, so the combined system is
+//! uniquely solvable at every frequency, and the exterior potential is unchanged. The two
+//! frequency limits have no irregular frequencies and always use the plain method.
+//! [`IrregularFrequencies::Keep`] is the seed's plain method.
+
+use crate::green::{FreeSurface, GreenFunction};
+use crate::panels::{Mesh, Panel};
+use faer::complex_native::c64;
+use faer::dyn_stack::{GlobalPodBuffer, PodStack};
+use faer::reborrow::ReborrowMut;
+use faer::{Conj, Mat, Parallelism};
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+use std::fmt;
+use std::time::{Duration, Instant};
+
+/// How irregular frequencies are treated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum IrregularFrequencies {
+    /// The seed's plain source method: spikes near the interior eigenfrequencies.
+    Keep,
+    /// Sources on the interior free-surface lid with `phi = 0` there (extended boundary
+    /// condition). No effect on closed (submerged) contours, which have no irregular
+    /// frequencies.
+    #[default]
+    RemoveWithLid,
+}
+
+/// The result of one radiation solve.
+#[derive(Clone, Debug)]
+pub struct RadiationSolution {
+    /// Complex added mass `A~_ij / rho` (per unit density), symmetrized: `(A + A^T)/2`.
+    pub added_mass: DMatrix<Complex64>,
+    /// Reciprocity residual before symmetrization: `max |A_ij - A_ji| / max_k |A_kk|`.
+    pub reciprocity_residual: f64,
+    /// Time in the Green function and panel integrals.
+    pub influence_time: Duration,
+    /// Time assembling the system and the added mass from the source strengths.
+    pub assembly_time: Duration,
+    /// Time in the LU factorization and the solves.
+    pub factorization_time: Duration,
+}
+
+/// A solve that failed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BemError(pub String);
+
+impl fmt::Display for BemError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "panel method: {}", self.0)
+    }
+}
+
+impl std::error::Error for BemError {}
+
+fn to_faer(z: Complex64) -> c64 {
+    c64 { re: z.re, im: z.im }
+}
+
+fn from_faer(z: c64) -> Complex64 {
+    Complex64::new(z.re, z.im)
+}
+
+/// Solves the radiation problem of every DOF of `mesh` for the free-surface condition
+/// `surface`.
+///
+/// # Errors
+/// A singular or non-finite system (for example a degenerate mesh), reported with the
+/// frequency, so that a sweep can carry on with its other frequencies.
+pub fn solve(
+    mesh: &Mesh,
+    surface: FreeSurface,
+    irregular: IrregularFrequencies,
+) -> Result<RadiationSolution, BemError> {
+    let green = GreenFunction::new(surface).map_err(|e| BemError(e.to_string()))?;
+    let use_lid = matches!(surface, FreeSurface::Wave { .. })
+        && irregular == IrregularFrequencies::RemoveWithLid
+        && !mesh.lid.is_empty();
+    let body_count = mesh.body.len();
+    let lid_count = if use_lid { mesh.lid.len() } else { 0 };
+    let unknowns = body_count + lid_count;
+    let dof_count = mesh.dof_names.len();
+    let panel = |p: usize| {
+        if p < body_count {
+            &mesh.body[p]
+        } else {
+            &mesh.lid[p - body_count]
+        }
+    };
+
+    // Influence of every panel at every collocation point.
+    let start = Instant::now();
+    let mut system = Mat::<c64>::zeros(unknowns, unknowns);
+    let mut potential = Mat::<c64>::zeros(body_count, unknowns);
+    for i in 0..unknowns {
+        let field = panel(i);
+        for p in 0..unknowns {
+            let source = panel(p);
+            let integral = green.panel_integral(field.centre, source.start, source.end);
+            if i < body_count {
+                let normal_derivative =
+                    integral.gradient[0] * field.normal[0] + integral.gradient[1] * field.normal[1];
+                system.write(i, p, to_faer(normal_derivative));
+                potential.write(i, p, to_faer(integral.potential));
+            } else {
+                system.write(i, p, to_faer(integral.gradient[1]));
+            }
+        }
+    }
+    // Panel-averaged potential for near pairs: phi of a constant-strength panel is log-singular
+    // in slope at and next to its own panel, so the centre value misrepresents the panel mean
+    // by O(L) there (by (L/2pi)(ln 2 - 1/2) on the panel itself), and the midpoint rule for
+    // integral n_i phi_j ds would converge only at first order. Far pairs keep the centre value.
+    for l in 0..body_count {
+        let field = &mesh.body[l];
+        for p in 0..unknowns {
+            let source = panel(p);
+            if distance_to_panel(field.centre, source)
+                > NEAR_FIELD_RATIO * field.length.max(source.length)
+            {
+                continue;
+            }
+            let mean = panel_mean(field, |x| {
+                green.panel_integral(x, source.start, source.end).potential
+            });
+            potential.write(l, p, to_faer(mean));
+        }
+    }
+    let influence_time = start.elapsed();
+
+    let start = Instant::now();
+    let mut rhs = Mat::<c64>::zeros(unknowns, dof_count);
+    for l in 0..body_count {
+        for j in 0..dof_count {
+            rhs.write(
+                l,
+                j,
+                c64 {
+                    re: mesh.normal_velocity[(l, j)],
+                    im: 0.0,
+                },
+            );
+        }
+    }
+    let mut assembly_time = start.elapsed();
+
+    let start = Instant::now();
+    let strengths = solve_dense(system, rhs).ok_or_else(|| {
+        BemError(format!(
+            "singular influence matrix for {surface:?} ({body_count} body and {lid_count} lid panels)"
+        ))
+    })?;
+    let factorization_time = start.elapsed();
+
+    let start = Instant::now();
+    let phi = &potential * &strengths;
+    let mut added_mass = DMatrix::<Complex64>::zeros(dof_count, dof_count);
+    for i in 0..dof_count {
+        for j in 0..dof_count {
+            added_mass[(i, j)] = (0..body_count)
+                .map(|l| {
+                    from_faer(phi.read(l, j)) * (mesh.normal_velocity[(l, i)] * mesh.body[l].length)
+                })
+                .sum();
+        }
+    }
+    if added_mass
+        .iter()
+        .any(|z| !z.re.is_finite() || !z.im.is_finite())
+    {
+        return Err(BemError(format!("non-finite added mass for {surface:?}")));
+    }
+    let diagonal_scale = (0..dof_count)
+        .map(|k| added_mass[(k, k)].norm())
+        .fold(0.0, f64::max);
+    let mut asymmetry: f64 = 0.0;
+    for i in 0..dof_count {
+        for j in 0..i {
+            asymmetry = asymmetry.max((added_mass[(i, j)] - added_mass[(j, i)]).norm());
+        }
+    }
+    let reciprocity_residual = if diagonal_scale > 0.0 {
+        asymmetry / diagonal_scale
+    } else {
+        0.0
+    };
+    let symmetric = (&added_mass + added_mass.transpose()) * Complex64::new(0.5, 0.0);
+    assembly_time += start.elapsed();
+    Ok(RadiationSolution {
+        added_mass: symmetric,
+        reciprocity_residual,
+        influence_time,
+        assembly_time,
+        factorization_time,
+    })
+}
+
+/// Pairs of panels closer than this many panel lengths get the panel-averaged potential.
+const NEAR_FIELD_RATIO: f64 = 3.0;
+
+/// 8-point Gauss-Legendre nodes and weights on [-1, 1].
+const GAUSS_NODES: [f64; 8] = [
+    -0.960_289_856_497_536_3,
+    -0.796_666_477_413_626_7,
+    -0.525_532_409_916_329,
+    -0.183_434_642_495_649_8,
+    0.183_434_642_495_649_8,
+    0.525_532_409_916_329,
+    0.796_666_477_413_626_7,
+    0.960_289_856_497_536_3,
+];
+const GAUSS_WEIGHTS: [f64; 8] = [
+    0.101_228_536_290_376_3,
+    0.222_381_034_453_374_5,
+    0.313_706_645_877_887_3,
+    0.362_683_783_378_362,
+    0.362_683_783_378_362,
+    0.313_706_645_877_887_3,
+    0.222_381_034_453_374_5,
+    0.101_228_536_290_376_3,
+];
+
+/// Mean of `f` over the panel, by Gauss-Legendre quadrature.
+fn panel_mean(panel: &Panel, f: impl Fn([f64; 2]) -> Complex64) -> Complex64 {
+    GAUSS_NODES
+        .iter()
+        .zip(GAUSS_WEIGHTS)
+        .map(|(&t, w)| {
+            let u = 0.5 * (1.0 + t);
+            let x = [
+                panel.start[0] + u * (panel.end[0] - panel.start[0]),
+                panel.start[1] + u * (panel.end[1] - panel.start[1]),
+            ];
+            f(x) * (0.5 * w)
+        })
+        .sum()
+}
+
+/// Distance from `point` to the nearest point of the panel.
+fn distance_to_panel(point: [f64; 2], panel: &Panel) -> f64 {
+    let d = [panel.end[0] - panel.start[0], panel.end[1] - panel.start[1]];
+    let r = [point[0] - panel.start[0], point[1] - panel.start[1]];
+    let t = ((r[0] * d[0] + r[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+    (r[0] - t * d[0]).hypot(r[1] - t * d[1])
+}
+
+/// Solves `matrix * x = rhs` by LU with partial pivoting, on the calling thread only (the
+/// parallelism of a sweep is over frequencies). `None` when the factorization breaks down.
+fn solve_dense(mut matrix: Mat<c64>, mut rhs: Mat<c64>) -> Option<Mat<c64>> {
+    use faer::linalg::lu::partial_pivoting::{compute, solve};
+    let n = matrix.nrows();
+    let mut perm = vec![0usize; n];
+    let mut perm_inv = vec![0usize; n];
+    let parallelism = Parallelism::None;
+    let params = Default::default();
+    let factor_req = compute::lu_in_place_req::<usize, c64>(n, n, parallelism, params).ok()?;
+    let solve_req = solve::solve_in_place_req::<usize, c64>(n, n, rhs.ncols(), parallelism).ok()?;
+    let mut buffer = GlobalPodBuffer::new(factor_req.or(solve_req));
+    let mut stack = PodStack::new(&mut buffer);
+    let (_, row_perm) = compute::lu_in_place(
+        matrix.as_mut(),
+        &mut perm,
+        &mut perm_inv,
+        parallelism,
+        stack.rb_mut(),
+        params,
+    );
+    let smallest_pivot = (0..n)
+        .map(|k| from_faer(matrix.read(k, k)).norm())
+        .fold(f64::INFINITY, f64::min);
+    let largest_pivot = (0..n)
+        .map(|k| from_faer(matrix.read(k, k)).norm())
+        .fold(0.0, f64::max);
+    // Also catches NaN pivots.
+    if smallest_pivot.is_nan() || smallest_pivot <= 1e-14 * largest_pivot {
+        return None;
+    }
+    solve::solve_in_place(
+        matrix.as_ref(),
+        Conj::No,
+        row_perm,
+        rhs.as_mut(),
+        parallelism,
+        stack.rb_mut(),
+    );
+    Some(rhs)
+}

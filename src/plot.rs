@@ -1,0 +1,394 @@
+//! Small self-contained SVG line plots for the reports (validation, fit, performance).
+//!
+//! Not on any simulation path. A [`Figure`] holds axes with linear or logarithmic scales,
+//! line and marker series, and a legend; [`Figure::to_svg`] renders it as a standalone SVG
+//! document.
+
+use std::fmt::Write as _;
+
+/// Scale of an axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear.
+    Linear,
+    /// Base-10 logarithmic (values <= 0 are dropped).
+    Log,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// A solid polyline.
+    Line,
+    /// A dashed polyline.
+    Dashed,
+    /// Circles at the points.
+    Markers,
+}
+
+/// One data series.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points `(x, y)`.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+    /// Colour index into the palette.
+    pub colour: usize,
+}
+
+/// A plot with one pair of axes.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// Title above the axes.
+    pub title: String,
+    /// Label of the x axis.
+    pub x_label: String,
+    /// Label of the y axis.
+    pub y_label: String,
+    /// Scale of the x axis.
+    pub x_scale: Scale,
+    /// Scale of the y axis.
+    pub y_scale: Scale,
+    /// The series, drawn in order.
+    pub series: Vec<Series>,
+    /// A footnote under the plot (command, machine, date).
+    pub caption: String,
+}
+
+const PALETTE: [&str; 8] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+];
+const WIDTH: f64 = 640.0;
+const HEIGHT: f64 = 400.0;
+const LEFT: f64 = 70.0;
+const RIGHT: f64 = 170.0;
+const TOP: f64 = 36.0;
+const BOTTOM: f64 = 64.0;
+
+impl Figure {
+    /// An empty figure.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: Vec::new(),
+            caption: String::new(),
+        }
+    }
+
+    /// Adds a series; the colour follows the series count unless set later.
+    pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>, style: Style) -> &mut Self {
+        let colour = self.series.len();
+        self.series.push(Series {
+            label: label.into(),
+            points,
+            style,
+            colour,
+        });
+        self
+    }
+
+    fn transformed(&self) -> Vec<Vec<(f64, f64)>> {
+        let t = |v: f64, scale: Scale| match scale {
+            Scale::Linear => Some(v),
+            Scale::Log => (v > 0.0).then(|| v.log10()),
+        };
+        self.series
+            .iter()
+            .map(|s| {
+                s.points
+                    .iter()
+                    .filter_map(|&(x, y)| Some((t(x, self.x_scale)?, t(y, self.y_scale)?)))
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Renders the figure as an SVG document.
+    pub fn to_svg(&self) -> String {
+        let data = self.transformed();
+        let all = data.iter().flatten();
+        let (mut x0, mut x1, mut y0, mut y1) = all.fold(
+            (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ),
+            |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+        );
+        if !x0.is_finite() {
+            (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
+        }
+        if x1 - x0 < 1e-12 {
+            x0 -= 0.5;
+            x1 += 0.5;
+        }
+        if y1 - y0 < 1e-12 * (1.0 + y0.abs()) {
+            y0 -= 0.5 * (1.0 + y0.abs());
+            y1 += 0.5 * (1.0 + y1.abs());
+        }
+        let x_ticks = ticks(x0, x1, self.x_scale);
+        let y_ticks = ticks(y0, y1, self.y_scale);
+        if self.x_scale == Scale::Linear {
+            x0 = x0.min(x_ticks[0]);
+            x1 = x1.max(*x_ticks.last().unwrap_or(&x1));
+        }
+        let pad = 0.04 * (y1 - y0);
+        let (y0, y1) = (y0 - pad, y1 + pad);
+        let plot_w = WIDTH - LEFT - RIGHT;
+        let plot_h = HEIGHT - TOP - BOTTOM;
+        let sx = |x: f64| LEFT + (x - x0) / (x1 - x0) * plot_w;
+        let sy = |y: f64| TOP + (1.0 - (y - y0) / (y1 - y0)) * plot_h;
+
+        let mut svg = String::new();
+        let _ = writeln!(
+            svg,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">"#
+        );
+        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+        let _ = writeln!(
+            svg,
+            r#"<text x="{}" y="20" text-anchor="middle" font-size="13">{}</text>"#,
+            LEFT + plot_w / 2.0,
+            escape(&self.title)
+        );
+        for &t in &x_ticks {
+            if t < x0 - 1e-9 || t > x1 + 1e-9 {
+                continue;
+            }
+            let x = sx(t);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{x:.1}" y1="{TOP}" x2="{x:.1}" y2="{:.1}" stroke="#e0e0e0"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
+                TOP + plot_h,
+                TOP + plot_h + 14.0,
+                label(t, self.x_scale)
+            );
+        }
+        for &t in &y_ticks {
+            if t < y0 || t > y1 {
+                continue;
+            }
+            let y = sy(t);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#e0e0e0"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
+                LEFT + plot_w,
+                LEFT - 4.0,
+                y + 4.0,
+                label(t, self.y_scale)
+            );
+        }
+        let _ = writeln!(
+            svg,
+            r#"<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="none" stroke="black"/>"#
+        );
+        let _ = writeln!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+            LEFT + plot_w / 2.0,
+            TOP + plot_h + 32.0,
+            escape(&self.x_label)
+        );
+        let _ = writeln!(
+            svg,
+            r#"<text transform="translate(16 {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+            TOP + plot_h / 2.0,
+            escape(&self.y_label)
+        );
+        for (series, points) in self.series.iter().zip(&data) {
+            let colour = PALETTE[series.colour % PALETTE.len()];
+            match series.style {
+                Style::Line | Style::Dashed => {
+                    let path: Vec<String> = points
+                        .iter()
+                        .map(|&(x, y)| format!("{:.1},{:.1}", sx(x), sy(y)))
+                        .collect();
+                    let dash = if series.style == Style::Dashed {
+                        r#" stroke-dasharray="6 4""#
+                    } else {
+                        ""
+                    };
+                    let _ = writeln!(
+                        svg,
+                        r#"<polyline fill="none" stroke="{colour}" stroke-width="1.6"{dash} points="{}"/>"#,
+                        path.join(" ")
+                    );
+                }
+                Style::Markers => {
+                    for &(x, y) in points {
+                        let _ = writeln!(
+                            svg,
+                            r#"<circle cx="{:.1}" cy="{:.1}" r="2.6" fill="none" stroke="{colour}"/>"#,
+                            sx(x),
+                            sy(y)
+                        );
+                    }
+                }
+            }
+        }
+        for (k, series) in self.series.iter().enumerate() {
+            let colour = PALETTE[series.colour % PALETTE.len()];
+            let y = TOP + 10.0 + 16.0 * k as f64;
+            let x = LEFT + plot_w + 10.0;
+            let mark = match series.style {
+                Style::Markers => format!(
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="2.6" fill="none" stroke="{colour}"/>"#,
+                    x + 10.0,
+                    y - 4.0
+                ),
+                style => format!(
+                    r#"<line x1="{x:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="1.6"{}/>"#,
+                    y - 4.0,
+                    x + 20.0,
+                    y - 4.0,
+                    if style == Style::Dashed {
+                        r#" stroke-dasharray="6 4""#
+                    } else {
+                        ""
+                    }
+                ),
+            };
+            let _ = writeln!(
+                svg,
+                r#"{mark}<text x="{:.1}" y="{y:.1}">{}</text>"#,
+                x + 24.0,
+                escape(&series.label)
+            );
+        }
+        if !self.caption.is_empty() {
+            let _ = writeln!(
+                svg,
+                r##"<text x="4" y="{:.1}" font-size="9" fill="#555">{}</text>"##,
+                HEIGHT - 6.0,
+                escape(&self.caption)
+            );
+        }
+        svg.push_str("</svg>\n");
+        svg
+    }
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Tick positions in transformed coordinates.
+fn ticks(lo: f64, hi: f64, scale: Scale) -> Vec<f64> {
+    if scale == Scale::Log {
+        let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
+        return (a..=b).map(f64::from).collect();
+    }
+    let span = hi - lo;
+    let raw = span / 6.0;
+    let magnitude = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * magnitude)
+        .find(|s| span / s <= 7.0)
+        .unwrap_or(10.0 * magnitude);
+    let first = (lo / step).floor() * step;
+    (0..=((hi - first) / step).ceil() as usize)
+        .map(|k| first + k as f64 * step)
+        .collect()
+}
+
+fn label(t: f64, scale: Scale) -> String {
+    match scale {
+        Scale::Log => {
+            let v = 10f64.powf(t);
+            if (1e-3..1e4).contains(&v) {
+                format!("{}", (v * 1e3).round() / 1e3)
+            } else {
+                format!("1e{}", t.round() as i32)
+            }
+        }
+        Scale::Linear => {
+            let r = (t * 1e9).round() / 1e9;
+            format!("{r}")
+        }
+    }
+}
+
+/// Where a report's numbers came from: the command, the machine and the date (UTC), for the
+/// captions of figures and the headers of generated documents.
+pub fn provenance(command: &str) -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("`{command}` on {cpu} ({cores} cores), {}", today())
+}
+
+/// Today's date (UTC) as `YYYY-MM-DD`.
+pub fn today() -> String {
+    let days = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() / 86_400) as i64;
+    // Civil date from days since 1970-01-01 (H. Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn svg_contains_every_series_and_escapes_text() {
+        let mut figure = Figure::new("a < b & c", "kR", "A / (rho pi R^2)");
+        figure.x_scale = Scale::Log;
+        figure.add(
+            "line",
+            vec![(0.01, 1.0), (1.0, 2.0), (10.0, 0.5)],
+            Style::Line,
+        );
+        figure.add("points", vec![(0.1, 1.5), (-1.0, 3.0)], Style::Markers);
+        let svg = figure.to_svg();
+        assert!(svg.starts_with("<svg") && svg.ends_with("</svg>\n"));
+        assert!(svg.contains("a &lt; b &amp; c"));
+        assert_eq!(svg.matches("<polyline").count(), 1);
+        // The point at x = -1 cannot be drawn on a log axis and is dropped.
+        assert_eq!(svg.matches("<circle").count(), 1 + 1);
+    }
+
+    #[test]
+    fn today_is_a_plausible_date() {
+        let date = today();
+        assert_eq!(date.len(), 10);
+        let year: i32 = date[..4].parse().unwrap();
+        assert!(year >= 2024, "{date}");
+    }
+
+    #[test]
+    fn linear_ticks_cover_the_range_with_round_steps() {
+        let t = ticks(-0.23, 1.07, Scale::Linear);
+        assert!(t[0] <= -0.23 && *t.last().unwrap() >= 1.07);
+        let step = t[1] - t[0];
+        assert!((step - 0.2).abs() < 1e-12, "{t:?}");
+    }
+}
