@@ -33,7 +33,7 @@
 //! frequency limits have no irregular frequencies and always use the plain method.
 //! [`IrregularFrequencies::Keep`] is the seed's plain method.
 
-use crate::green::{FreeSurface, GreenFunction};
+use crate::green::{FreeSurface, GreenFunction, PanelIntegral};
 use crate::panels::{Mesh, Panel};
 use faer::complex_native::c64;
 use faer::dyn_stack::{GlobalPodBuffer, PodStack};
@@ -92,7 +92,8 @@ fn from_faer(z: c64) -> Complex64 {
 }
 
 /// Solves the radiation problem of every DOF of `mesh` for the free-surface condition
-/// `surface`.
+/// `surface`. For many frequencies on one mesh, [`Problem`] reuses the
+/// frequency-independent part.
 ///
 /// # Errors
 /// A singular or non-finite system (for example a degenerate mesh), reported with the
@@ -102,14 +103,133 @@ pub fn solve(
     surface: FreeSurface,
     irregular: IrregularFrequencies,
 ) -> Result<RadiationSolution, BemError> {
-    let green = GreenFunction::new(surface).map_err(|e| BemError(e.to_string()))?;
-    let use_lid = matches!(surface, FreeSurface::Wave { .. })
-        && irregular == IrregularFrequencies::RemoveWithLid
-        && !mesh.lid.is_empty();
+    Problem::new(mesh.clone())?.solve(surface, irregular)
+}
+
+/// Influence of every panel (body, then lid) at every collocation point.
+struct Influence {
+    /// Rows: body collocation points (normal derivative), then lid centres (d/dy from below).
+    system: Mat<c64>,
+    /// Potential at the body panels (panel mean for near pairs, centre value otherwise).
+    potential: Mat<c64>,
+}
+
+/// The panel method on one mesh, with the frequency-independent Rankine part
+/// `(1/2pi) ln(r0/r1)` (the omega -> inf Green function) computed once. A wave solve adds
+/// only the frequency-dependent remainder.
+pub struct Problem {
+    mesh: Mesh,
+    mirror: Option<Vec<usize>>,
+    dirichlet: Influence,
+}
+
+impl Problem {
+    /// Prepares `mesh` (computes the Rankine influence of all panels).
+    ///
+    /// # Errors
+    /// Never for a valid mesh; kept fallible for the Green function's checks.
+    pub fn new(mesh: Mesh) -> Result<Self, BemError> {
+        let green =
+            GreenFunction::new(FreeSurface::Dirichlet).map_err(|e| BemError(e.to_string()))?;
+        let unknowns = mesh.body.len() + mesh.lid.len();
+        let mirror = mirror_map(&mesh);
+        let dirichlet = influence(&mesh, mirror.as_deref(), unknowns, |x, a, b| {
+            green.panel_integral(x, a, b)
+        });
+        Ok(Self {
+            mesh,
+            mirror,
+            dirichlet,
+        })
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Solves the radiation problem of every DOF for `surface`.
+    ///
+    /// # Errors
+    /// As [`solve`].
+    pub fn solve(
+        &self,
+        surface: FreeSurface,
+        irregular: IrregularFrequencies,
+    ) -> Result<RadiationSolution, BemError> {
+        let mesh = &self.mesh;
+        let green = GreenFunction::new(surface).map_err(|e| BemError(e.to_string()))?;
+        let use_lid = matches!(surface, FreeSurface::Wave { .. })
+            && irregular == IrregularFrequencies::RemoveWithLid
+            && !mesh.lid.is_empty();
+        let body_count = mesh.body.len();
+        let lid_count = if use_lid { mesh.lid.len() } else { 0 };
+        let unknowns = body_count + lid_count;
+        let start = Instant::now();
+        let cached = &self.dirichlet;
+        let mirror = self.mirror.as_deref();
+        let Influence { system, potential } = match surface {
+            FreeSurface::Dirichlet => Influence {
+                system: cached.system.submatrix(0, 0, unknowns, unknowns).to_owned(),
+                potential: cached.potential.submatrix(0, 0, body_count, unknowns).to_owned(),
+            },
+            FreeSurface::Wave { .. } => {
+                let mut wave = influence(mesh, mirror, unknowns, |x, a, b| {
+                    green.panel_integral_beyond_dirichlet(x, a, b)
+                });
+                wave.system += cached.system.submatrix(0, 0, unknowns, unknowns);
+                wave.potential += cached.potential.submatrix(0, 0, body_count, unknowns);
+                wave
+            }
+            FreeSurface::RigidLid => influence(mesh, mirror, unknowns, |x, a, b| {
+                green.panel_integral(x, a, b)
+            }),
+        };
+        let influence_time = start.elapsed();
+        solve_system(mesh, surface, system, potential, influence_time, lid_count)
+    }
+}
+
+/// For a mesh symmetric about x = 0 (all built-in hulls and symmetric hull files), the index
+/// of each panel's mirror image (body and lid panels, in unknown order); `None` otherwise.
+fn mirror_map(mesh: &Mesh) -> Option<Vec<usize>> {
+    let panels: Vec<&Panel> = mesh.body.iter().chain(&mesh.lid).collect();
+    let scale = panels.iter().map(|p| p.length).fold(0.0, f64::max);
+    let tolerance = 1e-9 * scale;
+    let mut order: Vec<usize> = (0..panels.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (pa, pb) = (panels[a].centre, panels[b].centre);
+        pa[0].total_cmp(&pb[0]).then(pa[1].total_cmp(&pb[1]))
+    });
+    let mut map = vec![usize::MAX; panels.len()];
+    for (p, panel) in panels.iter().enumerate() {
+        let target = [-panel.centre[0], panel.centre[1]];
+        let k = order.partition_point(|&q| panels[q].centre[0] < target[0] - tolerance);
+        let found = order[k..]
+            .iter()
+            .take_while(|&&q| panels[q].centre[0] <= target[0] + tolerance)
+            .find(|&&q| {
+                (panels[q].centre[1] - target[1]).abs() <= tolerance
+                    && (panels[q].length - panel.length).abs() <= tolerance
+                    && (panels[q].normal[0] + panel.normal[0]).abs() <= 1e-9
+                    && (panels[q].normal[1] - panel.normal[1]).abs() <= 1e-9
+                    && (q < mesh.body.len()) == (p < mesh.body.len())
+            })?;
+        map[p] = *found;
+    }
+    Some(map)
+}
+
+/// The influence of the first `unknowns` panels (body, then lid) under `kernel`, the panel
+/// integral of some Green function. With a `mirror` map, rows of mirrored collocation points
+/// are copied, `I(i, p) = I(m(i), m(p))`, which halves the work on symmetric hulls.
+fn influence(
+    mesh: &Mesh,
+    mirror: Option<&[usize]>,
+    unknowns: usize,
+    kernel: impl Fn([f64; 2], [f64; 2], [f64; 2]) -> PanelIntegral,
+) -> Influence {
     let body_count = mesh.body.len();
-    let lid_count = if use_lid { mesh.lid.len() } else { 0 };
-    let unknowns = body_count + lid_count;
-    let dof_count = mesh.dof_names.len();
     let panel = |p: usize| {
         if p < body_count {
             &mesh.body[p]
@@ -117,47 +237,64 @@ pub fn solve(
             &mesh.lid[p - body_count]
         }
     };
-
-    // Influence of every panel at every collocation point.
-    let start = Instant::now();
     let mut system = Mat::<c64>::zeros(unknowns, unknowns);
     let mut potential = Mat::<c64>::zeros(body_count, unknowns);
-    for i in 0..unknowns {
-        let field = panel(i);
-        for p in 0..unknowns {
-            let source = panel(p);
-            let integral = green.panel_integral(field.centre, source.start, source.end);
+    // A mirror map is usable when it maps the unknowns in use onto themselves.
+    let mirror = mirror.filter(|m| m[..unknowns].iter().all(|&q| q < unknowns));
+    let is_copy = |i: usize| mirror.is_some_and(|m| m[i] < i);
+    for p in 0..unknowns {
+        let source = panel(p);
+        for i in 0..unknowns {
+            if is_copy(i) {
+                continue;
+            }
+            let field = panel(i);
+            let integral = kernel(field.centre, source.start, source.end);
             if i < body_count {
                 let normal_derivative =
                     integral.gradient[0] * field.normal[0] + integral.gradient[1] * field.normal[1];
                 system.write(i, p, to_faer(normal_derivative));
-                potential.write(i, p, to_faer(integral.potential));
+                // Panel mean for near pairs: phi of a constant-strength panel is log-singular
+                // in slope at and next to its own panel, so the centre value misrepresents the
+                // mean by O(L) there (by (L/2pi)(ln 2 - 1/2) on the panel itself).
+                let near = distance_to_panel(field.centre, source)
+                    <= NEAR_FIELD_RATIO * field.length.max(source.length);
+                let value = if near {
+                    panel_mean(field, |x| kernel(x, source.start, source.end).potential)
+                } else {
+                    integral.potential
+                };
+                potential.write(i, p, to_faer(value));
             } else {
                 system.write(i, p, to_faer(integral.gradient[1]));
             }
         }
     }
-    // Panel-averaged potential for near pairs: phi of a constant-strength panel is log-singular
-    // in slope at and next to its own panel, so the centre value misrepresents the panel mean
-    // by O(L) there (by (L/2pi)(ln 2 - 1/2) on the panel itself), and the midpoint rule for
-    // integral n_i phi_j ds would converge only at first order. Far pairs keep the centre value.
-    for l in 0..body_count {
-        let field = &mesh.body[l];
-        for p in 0..unknowns {
-            let source = panel(p);
-            if distance_to_panel(field.centre, source)
-                > NEAR_FIELD_RATIO * field.length.max(source.length)
-            {
-                continue;
+    if let Some(m) = mirror {
+        for i in (0..unknowns).filter(|&i| is_copy(i)) {
+            for p in 0..unknowns {
+                system.write(i, p, system.read(m[i], m[p]));
+                if i < body_count {
+                    potential.write(i, p, potential.read(m[i], m[p]));
+                }
             }
-            let mean = panel_mean(field, |x| {
-                green.panel_integral(x, source.start, source.end).potential
-            });
-            potential.write(l, p, to_faer(mean));
         }
     }
-    let influence_time = start.elapsed();
+    Influence { system, potential }
+}
 
+/// Solves for the source strengths of every DOF and integrates the added mass.
+fn solve_system(
+    mesh: &Mesh,
+    surface: FreeSurface,
+    system: Mat<c64>,
+    potential: Mat<c64>,
+    influence_time: Duration,
+    lid_count: usize,
+) -> Result<RadiationSolution, BemError> {
+    let body_count = mesh.body.len();
+    let unknowns = system.nrows();
+    let dof_count = mesh.dof_names.len();
     let start = Instant::now();
     let mut rhs = Mat::<c64>::zeros(unknowns, dof_count);
     for l in 0..body_count {
@@ -314,4 +451,24 @@ fn solve_dense(mut matrix: Mat<c64>, mut rhs: Mat<c64>) -> Option<Mat<c64>> {
         stack.rb_mut(),
     );
     Some(rhs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hull::Hull;
+    use crate::panels::{self, PanelParams};
+
+    #[test]
+    fn symmetric_meshes_have_a_mirror_map_and_asymmetric_ones_none() {
+        for hull in [Hull::semicircle(1.0).unwrap(), Hull::circle(1.0, 1.1).unwrap()] {
+            let mesh = panels::discretize(&hull, &PanelParams::default()).unwrap();
+            let map = mirror_map(&mesh).expect("symmetric mesh");
+            assert!(map.iter().enumerate().all(|(p, &q)| map[q] == p));
+        }
+        let mut mesh =
+            panels::discretize(&Hull::semicircle(1.0).unwrap(), &PanelParams::default()).unwrap();
+        mesh.body[3].centre[0] += 1e-3;
+        assert!(mirror_map(&mesh).is_none());
+    }
 }

@@ -29,7 +29,7 @@
 //! # Passive by construction
 //!
 //! Every stage value is parameterized by its logarithm (`m = exp(p)` and so on), and the
-//! coupled form's weight matrices are projected onto the positive semi-definite cone, so every
+//! coupled form's weight matrices are PSD (projected onto the cone, then factored), so every
 //! network the fitter can return has `m, k, c > 0`: passive and reciprocal (see
 //! [`crate::realize`]). `A_inf` is symmetrized and, if it has slightly negative eigenvalues
 //! (discretization), clipped to PSD (`FitReport::added_mass_inf_adjustment`).
@@ -46,16 +46,31 @@
 //!   damping ratios 0.5 and 1.5; parallel-bank masses from non-negative least squares). Only if
 //!   the tolerance is not met: `FitParams::restarts` random starts from a fixed seed (bitwise
 //!   reproducible).
-//! * Coupled (n DOFs): branches of one mass whose dynamics are shared in groups ("poles"): the
-//!   model is `H = A_inf + sum_p W_p g_p(s)` with the unit-mass shape
-//!   `g_p(s) = (k_p + c_p s) / (s^2 + c_p s + k_p)` and PSD weights `W_p` (n x n). The poles
-//!   are found by variable projection (LM on `ln k_p, ln c_p`, the `W_p` solved by linear least
-//!   squares for every entry at once), started from a parallel-bank fit of the mean normalized
-//!   diagonal and from the previous order's poles. Then the `W_p` are solved again under the
-//!   constraint `W_p >= 0` (accelerated projected gradient, a convex problem), and each
-//!   `W_p = sum_r lambda_r v_r v_r^T` becomes one branch per eigenvalue: direction `v_r`
-//!   (unit), stage `m = lambda_r`, `k = lambda_r k_p`, `c = lambda_r c_p`. The order of a
-//!   coupled fit is the number of poles; its auxiliary DOFs are the summed ranks.
+//! * Coupled (n DOFs): branches whose chain dynamics are shared in groups. A group `p` is a
+//!   chain with first mass 1 and dynamic mass `g_p(s)` (one stage:
+//!   `g_p = (k_p + c_p s) / (s^2 + c_p s + k_p)`), weighted by a PSD matrix `W_p`:
+//!   `H = A_inf + sum_p W_p g_p(s)`. Each `W_p = sum_r lambda_r v_r v_r^T` becomes one branch per
+//!   eigenvalue (direction `v_r`, the chain scaled by `lambda_r`). The order of a coupled fit
+//!   is the number of groups; its auxiliary DOFs are the ranks times the stages. The fit works
+//!   in the subspace the normalized data span (e.g. 6 of the 9 DOFs of a hull whose rigid
+//!   motions are combinations of its Craig-Bampton modes). Two paths per order, the network
+//!   with the fewest auxiliary DOFs that meets the tolerance wins:
+//!   1. Variable projection: LM on the one-stage groups' `ln k_p, ln c_p` with the `W_p`
+//!      solved by linear least squares for every entry at once (Kaufman's Jacobian), started
+//!      from a parallel-bank fit of the mean normalized diagonal, a log-spaced grid, and the
+//!      previous order's groups. Exact for data made by such a network. It stops being tried
+//!      once it falls far behind path 2.
+//!   2. Dictionary: 80 two-stage band-pass chains (tiny first damper) spread over the band get
+//!      PSD weights at once; the `order` groups that carry the most response are kept.
+//!
+//!   In both, the `W_p` are solved under `W_p >= 0` (accelerated projected gradient, convex),
+//!   then the groups' chain values and factors `W_p = L_p L_p^T` are refined jointly by LM
+//!   (passive at every step) until the tolerance is met or the error stalls. Why groups of
+//!   band-pass chains: the damping `b(omega)` of a 2D hull has rank 2 (one symmetric and one
+//!   antisymmetric wave) and its principal directions turn with frequency. A branch only adds
+//!   damping along its own direction, so following a turning direction takes branches whose
+//!   damping is confined to a band; one-mass branches keep damping `c` up to infinite
+//!   frequency and cannot (on the semicircle's 9 DOFs they stall near 4 % error).
 //!
 //! Automatic order: orders 1, 2, ... `max_order`; the first one whose largest normalized error
 //! is within the tolerance is returned. If none is, the fit with the smallest error is
@@ -238,7 +253,7 @@ pub struct FitParams {
     /// Fixed order (auxiliary masses for one DOF, poles for the coupled form); `None`:
     /// automatic, the smallest order that meets the tolerance.
     pub order: Option<usize>,
-    /// Largest order tried. Default 8.
+    /// Largest order tried. Default 12.
     pub max_order: usize,
     /// Levenberg-Marquardt iterations per start. Default 300.
     pub max_iterations: usize,
@@ -259,7 +274,7 @@ impl Default for FitParams {
             band: (0.0, f64::INFINITY),
             tolerance: None,
             order: None,
-            max_order: 8,
+            max_order: 12,
             max_iterations: 300,
             restarts: 12,
             seed: 1,
@@ -387,7 +402,7 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
                         networks.push(network);
                     }
                 }
-                if dictionary_error > tolerance && coupled.variable_projection {
+                if coupled.variable_projection {
                     for stages in stage_options.clone() {
                         let (network, its) = problem.fit_coupled(
                             order,
@@ -417,15 +432,22 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
         if !candidate {
             continue;
         }
-        let mut met = false;
+        // Of this order's networks: the one with the fewest auxiliary masses that meets the
+        // tolerance, else the most accurate.
+        let mut met: Option<(usize, f64, Network)> = None;
         for network in networks {
             let err = problem.max_relative_error(&network);
-            if best.as_ref().is_none_or(|(e, _, _)| err < *e) {
+            if err <= tolerance {
+                let aux = network.aux_dof_count();
+                if met.as_ref().is_none_or(|(a, _, _)| aux < *a) {
+                    met = Some((aux, err, network));
+                }
+            } else if best.as_ref().is_none_or(|(e, _, _)| err < *e) {
                 best = Some((err, order, network));
             }
-            met |= err <= tolerance;
         }
-        if met {
+        if let Some((_, err, network)) = met {
+            best = Some((err, order, network));
             break;
         }
     }
@@ -736,10 +758,11 @@ impl Problem {
             best.as_ref()
                 .is_some_and(|(_, x)| max_error(x) <= tolerance)
         };
-        // Random restarts only when the deterministic starts came close (a local minimum).
-        let close = best
-            .as_ref()
-            .is_some_and(|(_, x)| max_error(x) <= RESTART_GATE * tolerance);
+        // Random restarts at low orders (cheap), or when the deterministic starts came close.
+        let close = order <= 3
+            || best
+                .as_ref()
+                .is_some_and(|(_, x)| max_error(x) <= RESTART_GATE * tolerance);
         if allow_restarts && order >= 2 && close && !met(&best) {
             let mut rng = SplitMix64::new(params.seed ^ (order as u64).wrapping_mul(0x9E37_79B9));
             for _ in 0..params.restarts {
@@ -940,7 +963,12 @@ impl Problem {
             ranked.sort_by(|&a, &b| energy[b].total_cmp(&energy[a]).then(a.cmp(&b)));
             let ranked = ranked
                 .into_iter()
-                .map(|p| (groups.theta[p * sp..(p + 1) * sp].to_vec(), weights[p].clone()))
+                .map(|p| {
+                    (
+                        groups.theta[p * sp..(p + 1) * sp].to_vec(),
+                        weights[p].clone(),
+                    )
+                })
                 .collect();
             state.dictionary = Some(ranked);
         }
@@ -950,7 +978,10 @@ impl Problem {
         }
         let groups = GroupSet {
             stages: 2,
-            theta: ranked[..order].iter().flat_map(|(t, _)| t.clone()).collect(),
+            theta: ranked[..order]
+                .iter()
+                .flat_map(|(t, _)| t.clone())
+                .collect(),
         };
         let weights = psd_weights(nu, target, &groups, PSD_PRECISION);
         let (network, its) =
@@ -1257,7 +1288,7 @@ fn levenberg_marquardt(
         x = candidate;
         cost = new_cost;
         problem.evaluate(&x, &mut r, Some(&mut jac));
-        if improvement < 1e-7 {
+        if improvement < 1e-9 {
             slow += 1;
         } else {
             slow = 0;
@@ -1764,7 +1795,12 @@ fn psd_weights(
         .collect();
     let mut y = w.clone();
     let mut t: f64 = 1.0;
-    for _ in 0..5000 {
+    let max_iterations = if precision >= DICTIONARY_PRECISION {
+        400
+    } else {
+        5000
+    };
+    for _ in 0..max_iterations {
         let mut next = Vec::with_capacity(count);
         for p in 0..count {
             let mut grad = -&b[p];
@@ -2577,11 +2613,11 @@ mod tests {
         let e = err(
             &data,
             FitParams {
-                order: Some(9),
+                order: Some(13),
                 ..FitParams::default()
             },
         );
-        assert!(e.contains("order 9"), "{e}");
+        assert!(e.contains("order 13"), "{e}");
         let e = err(
             &data,
             FitParams {
@@ -2808,4 +2844,3 @@ mod tests {
         assert!(report.tolerance_met, "{}", report.max_relative_error);
     }
 }
-

@@ -42,7 +42,9 @@ pub struct PanelParams {
     /// contours. Default 0.5.
     pub clustering: f64,
     /// Lid panels per body panel length: the lid gets
-    /// `ceil(lid_density * beam / mean body panel length)` panels (at least 4). Default 1.0.
+    /// `ceil(lid_density * beam / mean body panel length)` panels (at least 4). Default 0.5:
+    /// the lid only has to remove the interior resonances; finer lids cost time without
+    /// changing the result beyond the discretization error (docs/VALIDATION.md).
     pub lid_density: f64,
 }
 
@@ -51,7 +53,7 @@ impl Default for PanelParams {
         Self {
             body_panels: 128,
             clustering: 0.5,
-            lid_density: 1.0,
+            lid_density: 0.5,
         }
     }
 }
@@ -168,16 +170,22 @@ fn clustered_nodes(count: usize, clustering: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Node parameters of a closed contour, denser toward its highest point `s_top` (closest to
-/// the free surface, where the wave interaction varies fastest):
-/// `s = u - a sin(2 pi (u - s_top)) / (2 pi)`, `u = i/N`, with `a = clustering < 1`, so the
-/// local panel length scales with `1 - a cos(2 pi (u - s_top))`.
-fn nodes_toward_the_surface(hull: &Hull, count: usize, clustering: f64) -> Vec<f64> {
-    const SAMPLES: usize = 2048;
-    let s_top = (0..SAMPLES)
+/// The highest point of a closed contour (closest to the free surface), as a contour
+/// parameter.
+fn highest_parameter(hull: &Hull) -> f64 {
+    const SAMPLES: usize = 4096;
+    (0..SAMPLES)
         .map(|i| i as f64 / SAMPLES as f64)
         .max_by(|a, b| hull.point(*a)[1].total_cmp(&hull.point(*b)[1]))
-        .unwrap_or(0.0);
+        .unwrap_or(0.0)
+}
+
+/// Node positions `t` in [0, 1] of a closed contour, measured from the point opposite its
+/// top (contour parameter `s = (t + s_top + 1/2) mod 1`), denser toward the top where the
+/// wave interaction varies fastest: `t_i = u + a sin(2 pi u) / (2 pi)`, `u = i/N`, with
+/// `a = clustering < 1`, so the panel length scales with `1 + a cos(2 pi u)` and is smallest
+/// at the top (u = 1/2). The nodes are symmetric about the top.
+fn nodes_toward_the_surface(count: usize, clustering: f64) -> Vec<f64> {
     let a = clustering.min(0.9);
     let two_pi = 2.0 * std::f64::consts::PI;
     (0..=count)
@@ -186,7 +194,7 @@ fn nodes_toward_the_surface(hull: &Hull, count: usize, clustering: f64) -> Vec<f
             if i == 0 || i == count {
                 u
             } else {
-                u - a * ((two_pi * (u - s_top)).sin() + (two_pi * s_top).sin()) / two_pi
+                u + a * (two_pi * u).sin() / two_pi
             }
         })
         .collect()
@@ -230,13 +238,42 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         )));
     }
     let closed = hull.is_closed();
+    // Node positions t are monotone in [0, 1]; `parameter(t)` is the contour parameter.
+    let offset = if closed {
+        (highest_parameter(hull) + 0.5).fract()
+    } else {
+        0.0
+    };
+    let parameter = |t: f64| {
+        let s = t + offset;
+        if closed && s >= 1.0 {
+            s - 1.0
+        } else {
+            s
+        }
+    };
     let mut nodes = if closed {
-        nodes_toward_the_surface(hull, params.body_panels, params.clustering)
+        nodes_toward_the_surface(params.body_panels, params.clustering)
     } else {
         clustered_nodes(params.body_panels, params.clustering)
     };
     let breakpoints = hull.breakpoints();
-    snap_to_breakpoints(&mut nodes, &breakpoints);
+    // Built-in closed contours are smooth: their parameter ends 0 and 1 are no corners.
+    let corners: Vec<f64> = if closed && breakpoints.len() <= 2 {
+        Vec::new()
+    } else {
+        breakpoints
+            .iter()
+            .map(|b| if closed { (b - offset).rem_euclid(1.0) } else { *b })
+            .collect()
+    };
+    snap_to_breakpoints(&mut nodes, &corners);
+    if closed {
+        // A corner snapped onto one end must hold the other end too.
+        nodes[0] = 0.0;
+        let last = nodes.len() - 1;
+        nodes[last] = 1.0;
+    }
     if nodes.windows(2).any(|w| w[1] <= w[0]) {
         return Err(PanelError(format!(
             "{} panels cannot resolve the hull's {} contour corners; raise the panel count",
@@ -248,11 +285,11 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
     let mut body = Vec::with_capacity(params.body_panels);
     let mut normal_velocity = DMatrix::zeros(params.body_panels, dof_count);
     for (l, w) in nodes.windows(2).enumerate() {
-        let panel = Panel::new(hull.point(w[0]), hull.point(w[1]));
+        let panel = Panel::new(hull.point(parameter(w[0])), hull.point(parameter(w[1])));
         if !(panel.length > 0.0 && panel.length.is_finite()) {
             return Err(PanelError(format!("panel {l} has zero length")));
         }
-        let s_mid = 0.5 * (w[0] + w[1]);
+        let s_mid = parameter(0.5 * (w[0] + w[1]));
         for j in 0..dof_count {
             let u = hull.displacement(j, s_mid);
             normal_velocity[(l, j)] = u[0] * panel.normal[0] + u[1] * panel.normal[1];

@@ -10,7 +10,7 @@
 //! net flux through the contour (`integral n_j ds = 0`); entries between two DOFs with net flux
 //! (heave, `cb2`, `cb5`) diverge like `-(flux_i flux_j / (pi^2 R^2)) ln kR` and are left out.
 
-use crate::bem::{self, BemError, IrregularFrequencies, RadiationSolution};
+use crate::bem::{BemError, IrregularFrequencies, Problem, RadiationSolution};
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelParams};
@@ -94,9 +94,8 @@ pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError
 /// through them to `h = 0` (Richardson extrapolation, Neville's scheme). Two levels remove
 /// the first-order term at 1.25 times the cost of the fine solve; three levels also the
 /// second-order one at 1.31 times.
-#[derive(Clone, Debug)]
 pub struct Solver {
-    meshes: Vec<Mesh>,
+    problems: Vec<Problem>,
 }
 
 impl Solver {
@@ -112,7 +111,7 @@ impl Solver {
                 "at least one discretization level is needed".into(),
             ));
         }
-        let meshes = (0..levels)
+        let problems = (0..levels)
             .map(|level| {
                 let count = panels.body_panels >> level;
                 if level > 0 && count < 4 {
@@ -126,15 +125,17 @@ impl Solver {
                     body_panels: count,
                     ..*panels
                 };
-                panels::discretize(hull, &params).map_err(|e| SweepError(e.to_string()))
+                let mesh =
+                    panels::discretize(hull, &params).map_err(|e| SweepError(e.to_string()))?;
+                Problem::new(mesh).map_err(|e| SweepError(e.to_string()))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { meshes })
+        Ok(Self { problems })
     }
 
     /// The mesh of the requested panel count.
     pub fn mesh(&self) -> &Mesh {
-        &self.meshes[0]
+        self.problems[0].mesh()
     }
 
     /// `A~ / rho` for `surface`, extrapolated, with the reciprocity residual of the finest
@@ -147,14 +148,14 @@ impl Solver {
         surface: FreeSurface,
         irregular: IrregularFrequencies,
     ) -> Result<RadiationSolution, BemError> {
-        let mut solutions = Vec::with_capacity(self.meshes.len());
-        for mesh in &self.meshes {
-            solutions.push(bem::solve(mesh, surface, irregular)?);
+        let mut solutions = Vec::with_capacity(self.problems.len());
+        for problem in &self.problems {
+            solutions.push(problem.solve(surface, irregular)?);
         }
         let h: Vec<f64> = self
-            .meshes
+            .problems
             .iter()
-            .map(|m| 1.0 / m.body.len() as f64)
+            .map(|p| 1.0 / p.mesh().body.len() as f64)
             .collect();
         let mut table: Vec<DMatrix<Complex64>> =
             solutions.iter().map(|s| s.added_mass.clone()).collect();

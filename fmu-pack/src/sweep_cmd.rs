@@ -111,6 +111,13 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     for (kr, reason) in &result.failures {
         eprintln!("warning: kR = {kr} failed and is left out: {reason}");
     }
+    eprintln!(
+        "time summed over threads: influence (Green function, panel integrals) {:.3} s, \
+         assembly {:.3} s, factorization {:.3} s",
+        result.times.influence.as_secs_f64(),
+        result.times.assembly.as_secs_f64(),
+        result.times.factorization.as_secs_f64()
+    );
     let worst_reciprocity = result
         .reciprocity_residual
         .iter()
