@@ -171,7 +171,10 @@ impl Problem {
         let Influence { system, potential } = match surface {
             FreeSurface::Dirichlet => Influence {
                 system: cached.system.submatrix(0, 0, unknowns, unknowns).to_owned(),
-                potential: cached.potential.submatrix(0, 0, body_count, unknowns).to_owned(),
+                potential: cached
+                    .potential
+                    .submatrix(0, 0, body_count, unknowns)
+                    .to_owned(),
             },
             FreeSurface::Wave { .. } => {
                 let mut wave = influence(mesh, mirror, unknowns, |x, a, b| {
@@ -461,7 +464,10 @@ mod tests {
 
     #[test]
     fn symmetric_meshes_have_a_mirror_map_and_asymmetric_ones_none() {
-        for hull in [Hull::semicircle(1.0).unwrap(), Hull::circle(1.0, 1.1).unwrap()] {
+        for hull in [
+            Hull::semicircle(1.0).unwrap(),
+            Hull::circle(1.0, 1.1).unwrap(),
+        ] {
             let mesh = panels::discretize(&hull, &PanelParams::default()).unwrap();
             let map = mirror_map(&mesh).expect("symmetric mesh");
             assert!(map.iter().enumerate().all(|(p, &q)| map[q] == p));

@@ -17,11 +17,11 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod model_description;
 pub mod bem;
 pub mod green;
 pub mod hull;
 pub mod identify;
+pub mod model_description;
 pub mod panels;
 pub mod plot;
 pub mod realize;

@@ -58,6 +58,45 @@ impl Default for PanelParams {
     }
 }
 
+impl PanelParams {
+    /// The default parameters for `hull`: [`PanelParams::default`], with more panels for a
+    /// closed contour close to the free surface, so that the panels at its top are no longer
+    /// than [`GAP_FRACTION`] of the gap `d` between the top and the surface:
+    /// `N >= perimeter (1 - clustering) / (GAP_FRACTION d)`, rounded up to a multiple of 4 (the
+    /// extrapolation halves N twice).
+    pub fn for_hull(hull: &Hull) -> Self {
+        let mut params = Self::default();
+        if !hull.is_closed() {
+            return params;
+        }
+        const SAMPLES: usize = 1024;
+        let points: Vec<Point> = (0..=SAMPLES)
+            .map(|i| hull.point(i as f64 / SAMPLES as f64))
+            .collect();
+        let perimeter: f64 = points
+            .windows(2)
+            .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+            .sum();
+        let gap = -points
+            .iter()
+            .map(|p| p[1])
+            .fold(f64::NEG_INFINITY, f64::max);
+        if gap > 0.0 {
+            let needed = perimeter * (1.0 - params.clustering) / (GAP_FRACTION * gap);
+            let needed = ((needed / 4.0).ceil() as usize).saturating_mul(4);
+            params.body_panels = params.body_panels.max(needed.min(MAX_AUTOMATIC_PANELS));
+        }
+        params
+    }
+}
+
+/// Largest panel length at the top of a submerged contour, as a fraction of its gap to the
+/// free surface, in [`PanelParams::for_hull`].
+pub const GAP_FRACTION: f64 = 0.125;
+
+/// Upper bound of the automatic panel count of [`PanelParams::for_hull`].
+pub const MAX_AUTOMATIC_PANELS: usize = 1024;
+
 /// One straight constant-strength source panel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Panel {
@@ -264,7 +303,13 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
     } else {
         breakpoints
             .iter()
-            .map(|b| if closed { (b - offset).rem_euclid(1.0) } else { *b })
+            .map(|b| {
+                if closed {
+                    (b - offset).rem_euclid(1.0)
+                } else {
+                    *b
+                }
+            })
             .collect()
     };
     snap_to_breakpoints(&mut nodes, &corners);
@@ -370,6 +415,17 @@ mod tests {
         assert!(semicircle.lid.iter().all(|p| p.centre[1] == 0.0));
         let circle = discretize(&Hull::circle(1.0, 2.0).unwrap(), &PanelParams::default()).unwrap();
         assert!(circle.lid.is_empty());
+    }
+
+    #[test]
+    fn submerged_contours_near_the_surface_get_more_panels() {
+        let semicircle = Hull::semicircle(1.0).unwrap();
+        assert_eq!(PanelParams::for_hull(&semicircle), PanelParams::default());
+        let deep = PanelParams::for_hull(&Hull::circle(1.0, 2.0).unwrap());
+        assert_eq!(deep.body_panels, 128);
+        // Gap 0.1 R: perimeter 2 pi R, half clustering: 2 pi * 0.5 / (0.125 * 0.1) = 251.3.
+        let shallow = PanelParams::for_hull(&Hull::circle(1.0, 1.1).unwrap());
+        assert_eq!(shallow.body_panels, 252);
     }
 
     #[test]

@@ -365,6 +365,18 @@ impl SweepResult {
             "# panels: {} body, {} lid",
             self.panel_counts.0, self.panel_counts.1
         )?;
+        let reciprocity = self
+            .reciprocity_residual
+            .iter()
+            .copied()
+            .fold(0.0, f64::max);
+        writeln!(
+            out,
+            "# reciprocity residual (max over kR): {reciprocity:.2e}"
+        )?;
+        for warning in &self.warnings {
+            writeln!(out, "# warning: {warning}")?;
+        }
         for (kr, reason) in &self.failures {
             writeln!(out, "# failed: kR = {kr}: {reason}")?;
         }

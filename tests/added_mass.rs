@@ -24,7 +24,7 @@ fn mesh(hull: &Hull) -> Mesh {
 fn solver(hull: &Hull) -> Solver {
     Solver::new(
         hull,
-        &PanelParams::default(),
+        &PanelParams::for_hull(hull),
         SweepParams::default().extrapolation_levels,
     )
     .unwrap()
@@ -129,7 +129,10 @@ fn submerged_circle_matches_published_spot_values_and_sway_equals_heave() {
         // Ogilvie: sway and heave coefficients of a submerged circle are equal (exactly, in
         // the continuum; here within the 1e-3 accuracy target).
         let difference = (m[(sway, sway)] - m[(heave, heave)]).norm();
-        assert!(difference < 1e-3 * m[(sway, sway)].norm(), "H/R {depth}: {difference}");
+        assert!(
+            difference < 1e-3 * m[(sway, sway)].norm(),
+            "H/R {depth}: {difference}"
+        );
     }
 }
 

@@ -24,7 +24,7 @@ pub struct FitArgs {
     #[arg(long, value_name = "a,b,..")]
     pub dofs: Option<String>,
     /// Frequency band to fit: `MIN:MAX` in kR, or `MIN:MAXrad/s`.
-    #[arg(long, default_value = "0.05:5")]
+    #[arg(long, default_value = "0.05:5", allow_hyphen_values = true)]
     pub band: String,
     /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
     #[arg(long = "tol")]
@@ -35,11 +35,17 @@ pub struct FitArgs {
     /// Network form: series_chain, parallel_bank (one DOF), coupled.
     #[arg(long)]
     pub form: Option<String>,
-    /// Panels on the wetted contour.
-    #[arg(long, default_value_t = hydrofmu::panels::PanelParams::default().body_panels)]
-    pub panels: usize,
+    /// Panels on the wetted contour (default: 128, more for a submerged hull close to the
+    /// surface; see docs/DESIGN-NOTES.md).
+    #[arg(long)]
+    pub panels: Option<usize>,
     /// Log-spaced sweep grid of kR.
-    #[arg(long, value_name = "MIN:MAX:COUNT", default_value = "0.01:10:201")]
+    #[arg(
+        long,
+        value_name = "MIN:MAX:COUNT",
+        default_value = "0.01:10:201",
+        allow_hyphen_values = true
+    )]
     pub kr: String,
     /// Worker threads of the sweep.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
@@ -82,10 +88,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
     let sweep_params = hydrofmu::sweep::SweepParams {
         kr: sweep_cmd::parse_grid(&args.kr)?,
-        panels: hydrofmu::panels::PanelParams {
-            body_panels: args.panels,
-            ..Default::default()
-        },
+        panels: sweep_cmd::panel_params(&hull, args.panels),
         threads: args.threads,
         ..Default::default()
     };

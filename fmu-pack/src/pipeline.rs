@@ -10,7 +10,6 @@ use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
 use hydrofmu::model_description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::realize::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams, SweepResult};
-use num_complex::Complex64;
 use std::time::{Duration, Instant};
 
 /// Default fit band in kR: where ship-section radiation forces matter for multibody scenes,
@@ -61,29 +60,6 @@ impl Band {
             Band::Wavenumber(a, b) => (a, b),
             Band::RadPerSecond(a, b) => (a * a * radius / g, b * b * radius / g),
         }
-    }
-}
-
-/// The panel method's coefficients in SI units for `rho` and `g`:
-/// `omega = sqrt(kR g / R)`, `A~ = rho pi R^2 (A~ / (rho pi R^2))`.
-pub fn frequency_response(result: &SweepResult, rho: f64, g: f64) -> FrequencyResponse {
-    let radius = result.reference_half_beam;
-    let scale = rho * std::f64::consts::PI * radius * radius;
-    FrequencyResponse {
-        dof_names: result.dof_names.clone(),
-        omega: result
-            .kr
-            .iter()
-            .map(|kr| (kr * g / radius).sqrt())
-            .collect(),
-        added_mass: result
-            .added_mass
-            .iter()
-            .map(|m| m * Complex64::new(scale, 0.0))
-            .collect(),
-        added_mass_inf: &result.added_mass_inf * scale,
-        rho,
-        g,
     }
 }
 
@@ -155,7 +131,7 @@ pub fn build_network(
     let sweep = sweep::run(hull, depth, sweep_params, &|d, t| progress.update(d, t))
         .map_err(|e| e.to_string())?;
     let sweep_time = start.elapsed();
-    let response = frequency_response(&sweep, DEFAULT_RHO, DEFAULT_G);
+    let response = FrequencyResponse::from_sweep(&sweep, DEFAULT_RHO, DEFAULT_G);
     let form = request.form.unwrap_or(if sweep.dof_names.len() == 1 {
         NetworkForm::SeriesChain
     } else {

@@ -21,11 +21,17 @@ pub struct SweepArgs {
     /// Radius R of the built-in hulls, in metres.
     #[arg(long, default_value_t = 1.0)]
     pub radius: f64,
-    /// Panels on the wetted contour.
-    #[arg(long, default_value_t = PanelParams::default().body_panels)]
-    pub panels: usize,
+    /// Panels on the wetted contour (default: 128, more for a submerged hull close to the
+    /// surface; see docs/DESIGN-NOTES.md).
+    #[arg(long)]
+    pub panels: Option<usize>,
     /// Log-spaced grid of kR.
-    #[arg(long, value_name = "MIN:MAX:COUNT", default_value = "0.01:10:201")]
+    #[arg(
+        long,
+        value_name = "MIN:MAX:COUNT",
+        default_value = "0.01:10:201",
+        allow_hyphen_values = true
+    )]
     pub kr: String,
     /// Comma-separated DOFs to keep (default: all of the hull's).
     #[arg(long, value_name = "a,b,..")]
@@ -63,14 +69,20 @@ pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
     sweep::log_grid(number(min)?, number(max)?, count).map_err(|e| e.to_string())
 }
 
+/// The panel parameters for `hull`: the automatic default, or the count given.
+pub fn panel_params(hull: &hydrofmu::hull::Hull, panels: Option<usize>) -> PanelParams {
+    let automatic = PanelParams::for_hull(hull);
+    PanelParams {
+        body_panels: panels.unwrap_or(automatic.body_panels),
+        ..automatic
+    }
+}
+
 /// Builds the sweep parameters from the command line.
-pub fn params(args: &SweepArgs) -> Result<SweepParams, String> {
+pub fn params(args: &SweepArgs, hull: &hydrofmu::hull::Hull) -> Result<SweepParams, String> {
     Ok(SweepParams {
         kr: parse_grid(&args.kr)?,
-        panels: PanelParams {
-            body_panels: args.panels,
-            ..PanelParams::default()
-        },
+        panels: panel_params(hull, args.panels),
         irregular_frequencies: if args.plain {
             IrregularFrequencies::Keep
         } else {
@@ -85,7 +97,7 @@ pub fn params(args: &SweepArgs) -> Result<SweepParams, String> {
 pub fn run(args: &SweepArgs) -> Result<(), String> {
     let (hull, depth) =
         hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
-    let params = params(args)?;
+    let params = params(args, &hull)?;
     let progress = Progress::new("sweep");
     let start = Instant::now();
     let result = sweep::run(&hull, depth, &params, &|done, total| {

@@ -1,0 +1,77 @@
+//! Identification on the panel method's own semicircle data: the done-when targets of the
+//! identification, checked on a sweep computed here (default panels, 120 log-spaced kR from
+//! 0.01 to 4.5).
+
+use hydrofmu::hull::Hull;
+use hydrofmu::identify::{self, FitParams, FrequencyResponse};
+use hydrofmu::realize::NetworkForm;
+use hydrofmu::sweep::{self, SweepParams};
+use std::f64::consts::PI;
+use std::sync::OnceLock;
+
+const RHO: f64 = 1025.0;
+const G: f64 = 9.81;
+
+fn semicircle() -> &'static FrequencyResponse {
+    static DATA: OnceLock<FrequencyResponse> = OnceLock::new();
+    DATA.get_or_init(|| {
+        let params = SweepParams {
+            kr: sweep::log_grid(0.01, 4.5, 120).unwrap(),
+            ..SweepParams::default()
+        };
+        let result = sweep::run(
+            &Hull::semicircle(1.0).unwrap(),
+            Some(0.0),
+            &params,
+            &|_, _| {},
+        )
+        .unwrap();
+        assert!(result.failures.is_empty());
+        FrequencyResponse::from_sweep(&result, RHO, G)
+    })
+}
+
+fn omega_of(kr: f64) -> f64 {
+    (kr * G).sqrt()
+}
+
+#[test]
+fn semicircle_sway_two_mass_chain_is_within_one_percent() {
+    let sway = semicircle().select(&["sway"]).unwrap();
+    let params = FitParams {
+        band: (omega_of(0.01) * 0.999, omega_of(4.0) * 1.001),
+        order: Some(2),
+        ..FitParams::default()
+    };
+    let report = identify::fit(&sway, &params).unwrap();
+    let unit_mass = RHO * PI;
+    // Target: max error <= 1 % of rho pi R^2 over kR 0.01 .. 4 (measured 0.49 %).
+    assert!(
+        report.max_error[(0, 0)] <= 0.01 * unit_mass,
+        "{}",
+        report.max_error[(0, 0)] / unit_mass
+    );
+    assert_eq!(report.aux_dofs, 2);
+    report.network.validate().unwrap();
+}
+
+#[test]
+fn semicircle_full_coupled_network_is_within_two_percent_per_entry() {
+    let params = FitParams {
+        form: NetworkForm::Coupled,
+        band: (omega_of(0.05) * 0.999, omega_of(4.0) * 1.001),
+        tolerance: Some(0.02),
+        ..FitParams::default()
+    };
+    let report = identify::fit(semicircle(), &params).unwrap();
+    eprintln!(
+        "coupled 9x9: order {}, {} auxiliary DOFs, max relative error {:.4}",
+        report.order, report.aux_dofs, report.max_relative_error
+    );
+    assert!(report.tolerance_met, "{}", report.max_relative_error);
+    report.network.validate().unwrap();
+    // Passive by construction: the state-space matrix is stable.
+    let ss = report.network.state_space().unwrap();
+    let eigen = ss.a.clone().complex_eigenvalues();
+    assert!(eigen.iter().all(|l| l.re <= 1e-9), "unstable pole");
+}
