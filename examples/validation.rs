@@ -608,7 +608,10 @@ fn identification(doc: &mut String, semi: &SweepResult) {
     use hydrofmu::identify::{self, FitParams, FrequencyResponse};
     use hydrofmu::realize::Network;
     eprintln!("identification ...");
-    let _ = writeln!(doc, "\n## Identification: the semicircle in sway (seed section 4)\n");
+    let _ = writeln!(
+        doc,
+        "\n## Identification: the semicircle in sway (seed section 4)\n"
+    );
     // rho = 1/pi, g = 1, R = 1: masses per rho pi R^2, frequencies omega sqrt(R/g) = sqrt(kR).
     let data = FrequencyResponse::from_sweep(semi, 1.0 / PI, 1.0)
         .select(&["sway"])
@@ -628,12 +631,36 @@ fn identification(doc: &mut String, semi: &SweepResult) {
         doc,
         "| added DOFs | max error (per rho pi R^2) | A(0)/A_inf of the network | parameters (m, k, c per stage) |\n| --- | --- | --- | --- |"
     );
-    let mut real = Figure::new("semicircle sway: Re A~ and fits (seed Figure 6)", "kR", "a / (rho pi R^2)");
-    let mut imag = Figure::new("semicircle sway: Im A~ and fits", "kR", "-b / (omega rho pi R^2)");
+    let mut real = Figure::new(
+        "semicircle sway: Re A~ and fits (seed Figure 6)",
+        "kR",
+        "a / (rho pi R^2)",
+    );
+    let mut imag = Figure::new(
+        "semicircle sway: Im A~ and fits",
+        "kR",
+        "-b / (omega rho pi R^2)",
+    );
     real.x_scale = Scale::Log;
     imag.x_scale = Scale::Log;
-    real.add("panel method", data.omega.iter().zip(&data.added_mass).map(|(w, m)| (w * w, m[(0, 0)].re)).collect(), Style::Markers);
-    imag.add("panel method", data.omega.iter().zip(&data.added_mass).map(|(w, m)| (w * w, m[(0, 0)].im)).collect(), Style::Markers);
+    real.add(
+        "panel method",
+        data.omega
+            .iter()
+            .zip(&data.added_mass)
+            .map(|(w, m)| (w * w, m[(0, 0)].re))
+            .collect(),
+        Style::Markers,
+    );
+    imag.add(
+        "panel method",
+        data.omega
+            .iter()
+            .zip(&data.added_mass)
+            .map(|(w, m)| (w * w, m[(0, 0)].im))
+            .collect(),
+        Style::Markers,
+    );
     let mut two_dof_ratio = f64::NAN;
     for order in 1..=3 {
         let params = FitParams {
@@ -660,7 +687,10 @@ fn identification(doc: &mut String, semi: &SweepResult) {
             stages.join(" ")
         );
         let curve = |part: fn(Complex64) -> f64| -> Vec<(f64, f64)> {
-            data.omega.iter().map(|&w| (w * w, part(network.added_mass_tf(w)[(0, 0)]))).collect()
+            data.omega
+                .iter()
+                .map(|&w| (w * w, part(network.added_mass_tf(w)[(0, 0)])))
+                .collect()
         };
         real.add(&format!("{order} added DOFs"), curve(|z| z.re), Style::Line);
         imag.add(&format!("{order} added DOFs"), curve(|z| z.im), Style::Line);
@@ -700,19 +730,37 @@ fn identification(doc: &mut String, semi: &SweepResult) {
             }
         }
         let (k1x, k1v) = (v.clone(), accel(&x, &v));
-        let (k2x, k2v) = (&v + &k1v * (dt / 2.0), accel(&(&x + &k1x * (dt / 2.0)), &(&v + &k1v * (dt / 2.0))));
-        let (k3x, k3v) = (&v + &k2v * (dt / 2.0), accel(&(&x + &k2x * (dt / 2.0)), &(&v + &k2v * (dt / 2.0))));
+        let (k2x, k2v) = (
+            &v + &k1v * (dt / 2.0),
+            accel(&(&x + &k1x * (dt / 2.0)), &(&v + &k1v * (dt / 2.0))),
+        );
+        let (k3x, k3v) = (
+            &v + &k2v * (dt / 2.0),
+            accel(&(&x + &k2x * (dt / 2.0)), &(&v + &k2v * (dt / 2.0))),
+        );
         let (k4x, k4v) = (&v + &k3v * dt, accel(&(&x + &k3x * dt), &(&v + &k3v * dt)));
         x += (k1x + &k2x * 2.0 + &k3x * 2.0 + k4x) * (dt / 6.0);
         v += (k1v + &k2v * 2.0 + &k3v * 2.0 + k4v) * (dt / 6.0);
     }
     let expected = 1.0 / (body_mass + seed_total);
-    let mut figure = Figure::new("unit impulse response of the seed's network (seed Figure 7)", "t", "velocity");
+    let mut figure = Figure::new(
+        "unit impulse response of the seed's network (seed Figure 7)",
+        "t",
+        "velocity",
+    );
     for (k, s) in series.into_iter().enumerate() {
-        let label = if k == 0 { "body + m0".to_string() } else { format!("m{k}") };
+        let label = if k == 0 {
+            "body + m0".to_string()
+        } else {
+            format!("m{k}")
+        };
         figure.add(&label, s, Style::Line);
     }
-    figure.add("1/(m + m0 + m1 + m2)", vec![(0.0, expected), (60.0, expected)], Style::Dashed);
+    figure.add(
+        "1/(m + m0 + m1 + m2)",
+        vec![(0.0, expected), (60.0, expected)],
+        Style::Dashed,
+    );
     let _ = writeln!(
         doc,
         "The seed's Figure 7 (m = 1, unit impulse, eq. 19 integrated with RK4, dt = 0.001): all \

@@ -18,11 +18,15 @@
 #![warn(missing_docs)]
 
 pub mod bem;
+pub mod discretize;
+pub mod fmi2;
 pub mod green;
 pub mod hull;
 pub mod identify;
+pub mod model;
 pub mod model_description;
 pub mod panels;
 pub mod plot;
 pub mod realize;
 pub mod sweep;
+pub mod variables;

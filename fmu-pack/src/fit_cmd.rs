@@ -251,16 +251,29 @@ fn number(x: f64) -> String {
     }
 }
 
-/// One SVG per matrix entry i <= j whose scale is nonzero: data (markers) against the network
-/// (lines), real and imaginary parts, in kR. Returns the file names written.
+/// One SVG per matrix entry i <= j whose scale is nonzero, written into `dir`. Returns the
+/// file names written.
 pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let mut written = Vec::new();
+    for (name, svg) in plots(built) {
+        std::fs::write(dir.join(&name), svg)
+            .map_err(|e| format!("cannot write {}: {e}", dir.join(&name).display()))?;
+        written.push(name);
+    }
+    Ok(written)
+}
+
+/// Plots of fit against data (as the seed's Figure 6), one per matrix entry i <= j whose
+/// scale is nonzero: data (markers) and network (lines), real and imaginary parts, against kR.
+/// Returns `(file name, SVG text)` pairs.
+pub fn plots(built: &Built) -> Vec<(String, String)> {
     let response = &built.response;
     let radius = built.sweep.reference_half_beam;
     let g = response.g;
     let kr = |omega: f64| omega * omega * radius / g;
     let names = &response.dof_names;
-    let mut written = Vec::new();
+    let mut out = Vec::new();
     for i in 0..names.len() {
         for j in i..names.len() {
             if built.fit.error_scale[(i, j)] <= 0.0 {
@@ -299,13 +312,13 @@ pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, 
                 "fit band kR {:.3} .. {:.3}; {}",
                 kr(b0),
                 kr(b1),
-                plot::provenance("fmu-pack fit")
+                plot::provenance("fmu-pack")
             );
-            let name = format!("fit-{}-{}.svg", names[i], names[j]);
-            std::fs::write(dir.join(&name), figure.to_svg())
-                .map_err(|e| format!("cannot write {}: {e}", dir.join(&name).display()))?;
-            written.push(name);
+            out.push((
+                format!("fit-{}-{}.svg", names[i], names[j]),
+                figure.to_svg(),
+            ));
         }
     }
-    Ok(written)
+    out
 }

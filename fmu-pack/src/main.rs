@@ -1,18 +1,31 @@
-//! `fmu-pack`: computes, fits and packs one hydrofmu FMU archive per hull geometry.
+//! `fmu-pack`: packs one hydrofmu FMU archive per hull geometry.
+//!
+//! ```text
+//! fmu-pack                                  pack the built-in semicircle into Semicircle.fmu
+//! fmu-pack pack HULL [--network FILE] ... -o X.fmu
+//! fmu-pack inspect X.fmu
+//! fmu-pack sweep ...                        coefficient table of a hull
+//! fmu-pack fit ...                          equivalent network of a hull
+//! ```
 
 mod fit_cmd;
 mod hull_arg;
+mod pack;
 mod pipeline;
 mod progress;
 mod sweep_cmd;
 
 use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
 #[command(
     name = "fmu-pack",
     version,
-    about = "Packs one hydrofmu FMU archive per hull geometry"
+    about = "Packs hydrofmu FMI 2.0 co-simulation units, one per hull",
+    long_about = "Packs hydrofmu FMI 2.0 co-simulation units, one per hull. \
+                  Without a subcommand, packs the built-in semicircle into Semicircle.fmu."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -21,21 +34,55 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Pack a hull (or a given network) into an .fmu archive.
+    Pack(pack::PackArgs),
+    /// Print the model description summary, DOFs, network order and state size.
+    Inspect(pack::InspectArgs),
     /// Compute the complex added mass table of a hull (CSV).
     Sweep(sweep_cmd::SweepArgs),
     /// Identify the equivalent mass-spring-damper network of a hull.
     Fit(fit_cmd::FitArgs),
 }
 
-fn main() {
-    let cli = Cli::parse();
-    let outcome = match &cli.command {
-        Some(Command::Sweep(args)) => sweep_cmd::run(args),
-        Some(Command::Fit(args)) => fit_cmd::run(args),
-        None => Err("packing is not available in this build; try `fmu-pack sweep --help`".into()),
-    };
-    if let Err(message) = outcome {
-        eprintln!("error: {message}");
-        std::process::exit(2);
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Some(Command::Pack(args)) => {
+            let summary = pack::pack(&args).map_err(|e| e.to_string())?;
+            println!("{summary}");
+        }
+        Some(Command::Inspect(args)) => {
+            let found = pack::inspect(&args.fmu).map_err(|e| e.to_string())?;
+            print!("{found}");
+        }
+        Some(Command::Sweep(args)) => sweep_cmd::run(&args)?,
+        Some(Command::Fit(args)) => fit_cmd::run(&args)?,
+        None => {
+            let args = pack::PackArgs {
+                hull: "semicircle".into(),
+                depth: None,
+                dofs: None,
+                band: None,
+                tol: None,
+                order: None,
+                network: None,
+                keep_inf_mass: false,
+                output: PathBuf::from("Semicircle.fmu"),
+                binary: None,
+                model_identifier: None,
+            };
+            let summary = pack::pack(&args).map_err(|e| e.to_string())?;
+            println!("{summary}");
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("fmu-pack: error: {message}");
+            ExitCode::FAILURE
+        }
     }
 }

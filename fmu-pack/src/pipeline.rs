@@ -5,11 +5,12 @@
 //! rescales it exactly to the `rho` and `g` a master sets.
 
 use crate::progress::Progress;
-use hydrofmu::hull::Hull;
+use hydrofmu::hull::{DofKind, Hull, RigidKind};
 use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
 use hydrofmu::model_description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::realize::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams, SweepResult};
+use hydrofmu::variables::DofUnit;
 use std::time::{Duration, Instant};
 
 /// Default fit band in kR: where ship-section radiation forces matter for multibody scenes,
@@ -154,6 +155,97 @@ pub fn build_network(
         sweep_time,
         fit_time,
     })
+}
+
+/// What `pack` needs to know about the hull.
+#[derive(Clone, Debug)]
+pub struct HullInfo {
+    /// Hull name (shown in the model description and the documentation).
+    pub name: String,
+    /// DOFs with their units, in the hull's order.
+    pub dofs: Vec<DofUnit>,
+    /// Canonical hull file text, packed as `resources/hull.xml`.
+    pub xml: Option<String>,
+    /// The hull.
+    pub hull: Hull,
+    /// H/R of the built-in hulls.
+    pub depth: Option<f64>,
+}
+
+/// Options of the network computation for `pack`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NetworkOptions {
+    /// H/R of a built-in circle.
+    pub depth: Option<f64>,
+    /// Frequency band of the fit (`MIN:MAX` in kR or `MIN:MAXrad/s`).
+    pub band: Option<String>,
+    /// Fit tolerance.
+    pub tol: Option<f64>,
+    /// Network order.
+    pub order: Option<usize>,
+}
+
+/// Unit information of a hull DOF (see docs/DESIGN-NOTES.md, "Units of generalized DOFs").
+pub fn dof_unit(name: &str, kind: Option<DofKind>) -> DofUnit {
+    match kind {
+        Some(DofKind::Rigid {
+            kind: RigidKind::Roll,
+            ..
+        }) => DofUnit::new(name, 1, true),
+        Some(DofKind::Rigid { .. }) => DofUnit::new(name, 0, false),
+        Some(DofKind::CraigBampton { mode }) if mode == 3 || mode == 6 => {
+            DofUnit::new(name, 1, true)
+        }
+        Some(DofKind::CraigBampton { .. }) => DofUnit::new(name, 0, false),
+        _ => DofUnit::new(name, 1, false),
+    }
+}
+
+/// The hull named by `spec` (built-in name or hull file), restricted to `dofs` if given.
+pub fn load_hull(
+    spec: &str,
+    depth: Option<f64>,
+    dofs: Option<&[String]>,
+) -> Result<HullInfo, String> {
+    let list = dofs.map(|d| d.join(","));
+    let (hull, depth) = crate::hull_arg::resolve(spec, 1.0, depth, list.as_deref())?;
+    let dofs = (0..hull.dof_count())
+        .map(|j| dof_unit(hull.dof_names()[j], hull.dof_kind(j)))
+        .collect();
+    let mut name = hull.name().to_string();
+    if let Some(first) = name.get_mut(0..1) {
+        first.make_ascii_uppercase();
+    }
+    Ok(HullInfo {
+        name,
+        dofs,
+        xml: Some(hull.to_xml_string()),
+        hull,
+        depth,
+    })
+}
+
+/// The network file text of a hull (sweep, then fit), with everything the pipeline produced.
+pub fn build_network_xml(
+    hull: &HullInfo,
+    options: &NetworkOptions,
+) -> Result<(String, Built), String> {
+    let request = FitRequest {
+        band: match &options.band {
+            Some(text) => Band::parse(text)?,
+            None => FitRequest::default().band,
+        },
+        tolerance: options.tol,
+        order: options.order,
+        form: None,
+    };
+    let sweep_params = SweepParams {
+        panels: hydrofmu::panels::PanelParams::for_hull(&hull.hull),
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        ..SweepParams::default()
+    };
+    let built = build_network(&hull.hull, hull.depth, &sweep_params, &request)?;
+    Ok((built.fit.network.to_xml_string(), built))
 }
 
 #[cfg(test)]

@@ -1,0 +1,788 @@
+//! `fmu-pack pack` and `fmu-pack inspect`: one `.fmu` archive per hull.
+//!
+//! Archive layout (zip, deflate, forward slashes, no links, no zip64):
+//!
+//! ```text
+//! modelDescription.xml
+//! binaries/linux64/<modelIdentifier>.so    copy of the hydrofmu cdylib
+//! resources/network.xml                    the equivalent network
+//! resources/options.xml                    flags (keep_inf_mass)
+//! resources/hull.xml                       when the hull is known
+//! documentation/index.html                 summary
+//! ```
+//!
+//! The GUID is derived from the resources ([`hydrofmu::model::Resources::guid`]), so two
+//! hulls (or two networks, or two flag sets) never share one, and the FMU checks it at
+//! instantiation.
+
+use crate::pipeline::{self, HullInfo, NetworkOptions};
+use hydrofmu::model::{Model, Resources};
+use hydrofmu::model_description::FIXED_XML;
+use hydrofmu::variables::{DescriptionInfo, Layout};
+use std::fmt;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+/// Why packing or inspecting failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PackError(pub String);
+
+impl fmt::Display for PackError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PackError {}
+
+impl From<String> for PackError {
+    fn from(s: String) -> Self {
+        PackError(s)
+    }
+}
+
+impl From<&str> for PackError {
+    fn from(s: &str) -> Self {
+        PackError(s.to_string())
+    }
+}
+
+/// Arguments of `fmu-pack pack`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PackArgs {
+    /// Hull: a built-in name (semicircle, circle) or a hull file (XML).
+    pub hull: String,
+    /// H/R of the built-in circle (centre depth over radius).
+    #[arg(long)]
+    pub depth: Option<f64>,
+    /// DOFs to keep, comma separated (default: all of the hull's).
+    #[arg(long, value_delimiter = ',')]
+    pub dofs: Option<Vec<String>>,
+    /// Frequency band of the fit.
+    #[arg(long)]
+    pub band: Option<String>,
+    /// Fit tolerance.
+    #[arg(long)]
+    pub tol: Option<f64>,
+    /// Network order.
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Use this network file instead of computing one.
+    #[arg(long)]
+    pub network: Option<PathBuf>,
+    /// Keep A_inf inside the FMU: acceleration inputs, force includes -A_inf a.
+    #[arg(long)]
+    pub keep_inf_mass: bool,
+    /// Output archive (.fmu).
+    #[arg(short = 'o', long)]
+    pub output: PathBuf,
+    /// The hydrofmu shared library to pack (default: HYDROFMU_BINARY, then next to
+    /// fmu-pack, building it if fmu-pack runs from this workspace).
+    #[arg(long)]
+    pub binary: Option<PathBuf>,
+    /// modelIdentifier (default: from the output file name).
+    #[arg(long)]
+    pub model_identifier: Option<String>,
+}
+
+/// Arguments of `fmu-pack inspect`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct InspectArgs {
+    /// The archive to inspect.
+    pub fmu: PathBuf,
+}
+
+/// What was packed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackSummary {
+    /// Archive written.
+    pub path: PathBuf,
+    /// modelIdentifier.
+    pub model_identifier: String,
+    /// GUID.
+    pub guid: String,
+    /// DOF names.
+    pub dofs: Vec<String>,
+    /// Network states.
+    pub states: usize,
+    /// Whether A_inf is kept inside.
+    pub keep_inf_mass: bool,
+    /// Fit summary, when the network was computed.
+    pub fit: Option<String>,
+}
+
+impl fmt::Display for PackSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "wrote {}", self.path.display())?;
+        writeln!(f, "  modelIdentifier  {}", self.model_identifier)?;
+        writeln!(f, "  GUID             {}", self.guid)?;
+        writeln!(f, "  DOFs             {}", self.dofs.join(" "))?;
+        writeln!(f, "  network states   {}", self.states)?;
+        write!(
+            f,
+            "  A_inf            {}",
+            if self.keep_inf_mass {
+                "inside (acceleration inputs)"
+            } else {
+                "outside (add added_mass_inf to the hull's mass)"
+            }
+        )?;
+        if let Some(fit) = &self.fit {
+            write!(f, "\n  fit              {fit}")?;
+        }
+        Ok(())
+    }
+}
+
+/// `fmu-pack pack`.
+pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
+    let hull = pipeline::load_hull(&args.hull, args.depth, args.dofs.as_deref())?;
+    let mut report = None;
+    let network_xml = match &args.network {
+        Some(path) => std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?,
+        None => {
+            let options = NetworkOptions {
+                depth: args.depth,
+                band: args.band.clone(),
+                tol: args.tol,
+                order: args.order,
+            };
+            let (xml, built) = pipeline::build_network_xml(&hull, &options)?;
+            report = Some(built);
+            xml
+        }
+    };
+    let binary = locate_binary(args.binary.as_deref())?;
+    let identifier = match &args.model_identifier {
+        Some(id) => id.clone(),
+        None => identifier_from_path(&args.output),
+    };
+    pack_network(
+        &hull,
+        &network_xml,
+        args.keep_inf_mass,
+        &binary,
+        &identifier,
+        &args.output,
+        report.as_ref(),
+    )
+}
+
+/// A modelIdentifier from a file name: letters, digits and `_`, starting with a letter.
+pub fn identifier_from_path(path: &Path) -> String {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut id: String = stem
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    if !id.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        id.insert_str(0, "hydrofmu_");
+    }
+    id
+}
+
+/// Packs a network for a hull into `output` (the lower-level entry point).
+pub fn pack_network(
+    hull: &HullInfo,
+    network_xml: &str,
+    keep_inf_mass: bool,
+    binary: &Path,
+    model_identifier: &str,
+    output: &Path,
+    fit: Option<&pipeline::Built>,
+) -> Result<PackSummary, PackError> {
+    let resources = Resources::new(
+        network_xml.to_string(),
+        hull.xml.clone(),
+        Resources::options_text(keep_inf_mass),
+    )
+    .map_err(|e| e.to_string())?;
+    let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
+    let mut units = Vec::new();
+    for name in model.dof_names() {
+        let unit = hull.dofs.iter().find(|d| &d.name == name).ok_or_else(|| {
+            format!(
+                "the network's DOF '{name}' is not a DOF of hull '{}' ({})",
+                hull.name,
+                hull.dofs
+                    .iter()
+                    .map(|d| d.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })?;
+        units.push(unit.clone());
+    }
+    let layout = Layout::new(units, keep_inf_mass).map_err(|e| e.to_string())?;
+    let guid = resources.guid();
+    let system = model.system();
+    let info = DescriptionInfo {
+        model_identifier: model_identifier.to_string(),
+        guid: guid.clone(),
+        model_name: Some(format!("hydrofmu {}", hull.name)),
+        description: Some(format!(
+            "Hydrodynamic radiation forces on hull '{}' (DOFs {}), equivalent mass-spring-damper network with {} states",
+            hull.name,
+            model.dof_names().join(", "),
+            system.state_size()
+        )),
+        damping_direct: Some(system.damping_direct().clone()),
+        added_mass_inf: Some(system.added_mass_inf().clone()),
+    };
+    let description = layout
+        .model_description(FIXED_XML, &info)
+        .map_err(|e| e.to_string())?;
+    let library = std::fs::read(binary)
+        .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
+    let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
+    let mut plot_entries = Vec::new();
+    if let Some(built) = fit {
+        let mut section = format!(
+            "<h2>Fit report</h2>\n<pre>{}</pre>\n",
+            escape(&crate::fit_cmd::text(built))
+        );
+        for (name, svg) in crate::fit_cmd::plots(built) {
+            section += &format!("<p><img src=\"plots/{name}\" alt=\"{name}\"></p>\n");
+            plot_entries.push((format!("documentation/plots/{name}"), svg.into_bytes()));
+        }
+        documentation = match documentation.rfind("</body>") {
+            Some(at) => format!("{}{section}{}", &documentation[..at], &documentation[at..]),
+            None => documentation + &section,
+        };
+    }
+
+    let mut entries: Vec<(String, Vec<u8>)> = vec![
+        ("modelDescription.xml".into(), description.into_bytes()),
+        (format!("binaries/linux64/{model_identifier}.so"), library),
+        (
+            format!("resources/{}", Resources::NETWORK_FILE),
+            resources.network_xml.clone().into_bytes(),
+        ),
+        (
+            format!("resources/{}", Resources::OPTIONS_FILE),
+            resources.options_xml.clone().into_bytes(),
+        ),
+    ];
+    if let Some(h) = &resources.hull_xml {
+        entries.push((
+            format!("resources/{}", Resources::HULL_FILE),
+            h.clone().into_bytes(),
+        ));
+    }
+    entries.push((
+        "documentation/index.html".into(),
+        documentation.into_bytes(),
+    ));
+    entries.extend(plot_entries);
+    write_zip(output, &entries)?;
+    Ok(PackSummary {
+        path: output.to_path_buf(),
+        model_identifier: model_identifier.to_string(),
+        guid,
+        dofs: model.dof_names().to_vec(),
+        states: system.state_size(),
+        keep_inf_mass,
+        fit: fit.map(|b| {
+            format!(
+                "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
+                b.fit.aux_dofs,
+                100.0 * b.fit.max_relative_error,
+                100.0 * b.fit.tolerance,
+                if b.fit.tolerance_met { "met" } else { "NOT met" },
+                b.sweep_time.as_secs_f64(),
+                b.fit_time.as_secs_f64()
+            )
+        }),
+    })
+}
+
+/// Writes the archive through a temporary file next to `output`, then renames it.
+fn write_zip(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), PackError> {
+    use zip::write::SimpleFileOptions;
+    let dir = output
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = output
+        .file_name()
+        .ok_or_else(|| format!("{} is not a file name", output.display()))?;
+    let temporary = dir.join(format!(
+        ".{}.{}.part",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let err = |e: &dyn fmt::Display| PackError(format!("writing {}: {e}", output.display()));
+    let result = (|| -> Result<(), PackError> {
+        let file = std::fs::File::create(&temporary).map_err(|e| err(&e))?;
+        let mut zip = zip::ZipWriter::new(file);
+        let options = SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated)
+            .unix_permissions(0o644)
+            .large_file(false);
+        for (path, bytes) in entries {
+            if path.contains('\\') || path.starts_with('/') || path.contains("..") {
+                return Err(PackError(format!("bad archive path {path}")));
+            }
+            zip.start_file(path.as_str(), options)
+                .map_err(|e| err(&e))?;
+            zip.write_all(bytes).map_err(|e| err(&e))?;
+        }
+        zip.finish().map_err(|e| err(&e))?;
+        Ok(())
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(e);
+    }
+    std::fs::rename(&temporary, output).map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        err(&e)
+    })
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn matrix_table(title: &str, names: &[String], m: &nalgebra::DMatrix<f64>) -> String {
+    let mut t = format!("<h3>{}</h3>\n<table>\n<tr><th></th>", escape(title));
+    for n in names {
+        t += &format!("<th>{}</th>", escape(n));
+    }
+    t += "</tr>\n";
+    for (i, n) in names.iter().enumerate() {
+        t += &format!("<tr><th>{}</th>", escape(n));
+        for j in 0..names.len() {
+            t += &format!("<td>{:.6e}</td>", m[(i, j)]);
+        }
+        t += "</tr>\n";
+    }
+    t + "</table>\n"
+}
+
+fn documentation(
+    hull: &HullInfo,
+    layout: &Layout,
+    model: &Model,
+    guid: &str,
+    keep_inf_mass: bool,
+) -> String {
+    let system = model.system();
+    let mut rows = String::new();
+    for v in layout.variables() {
+        rows += &format!(
+            "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            escape(&v.name),
+            v.value_reference,
+            v.causality.as_str(),
+            escape(v.unit),
+            escape(&v.description)
+        );
+    }
+    let usage = if keep_inf_mass {
+        "The force includes -A_inf a: connect the hull accelerations to <code>acceleration.&lt;dof&gt;</code>."
+    } else {
+        "Add <code>added_mass_inf</code> to the hull's mass matrix; the force excludes -A_inf q''."
+    };
+    format!(
+        r#"<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>hydrofmu {name}</title>
+<style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}td:first-child{{text-align:left}}</style>
+</head><body>
+<h1>hydrofmu: hull {name}</h1>
+<p>FMI 2.0 co-simulation unit giving the hydrodynamic radiation force on the hull section (per unit length),
+from an equivalent mass-spring-damper network stepped exactly over each communication step.
+Conventions: x right, y up, free surface y = 0; force = force on the hull by the water.</p>
+<ul>
+<li>GUID: <code>{guid}</code></li>
+<li>DOFs: {dofs}</li>
+<li>Network states: {states}</li>
+<li>{usage}</li>
+<li>Power = -force . velocity (delivered to the water); energy = energy stored in the network.</li>
+<li>rho and g (fixed parameters) rescale the network exactly.</li>
+</ul>
+<h2>Coefficients at rho = {rho}, g = {g}</h2>
+{a_inf}{damping}
+<h2>Variables</h2>
+<table><tr><th>name</th><th>value reference</th><th>causality</th><th>unit</th><th>description</th></tr>
+{rows}</table>
+</body></html>
+"#,
+        name = escape(&hull.name),
+        guid = escape(guid),
+        dofs = escape(&model.dof_names().join(", ")),
+        states = system.state_size(),
+        usage = usage,
+        rho = system.rho(),
+        g = system.g(),
+        a_inf = matrix_table("added_mass_inf", model.dof_names(), system.added_mass_inf()),
+        damping = matrix_table("damping_direct", model.dof_names(), system.damping_direct()),
+        rows = rows,
+    )
+}
+
+/// The hydrofmu shared library: `--binary`, else `HYDROFMU_BINARY`, else `libhydrofmu.so`
+/// next to this executable; when missing there and this executable lives in this
+/// workspace's target directory, it is built with cargo first.
+pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
+    if let Some(p) = explicit {
+        return existing(p, "--binary");
+    }
+    if let Some(p) = std::env::var_os("HYDROFMU_BINARY") {
+        return existing(Path::new(&p), "HYDROFMU_BINARY");
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate fmu-pack: {e}"))?;
+    let exe_dir = exe
+        .parent()
+        .ok_or("fmu-pack has no parent directory")?
+        .to_path_buf();
+    let beside = exe_dir.join("libhydrofmu.so");
+    if beside.is_file() {
+        return Ok(beside);
+    }
+    let manifest = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../Cargo.toml"));
+    let target_dir = exe_dir.parent().map(Path::to_path_buf);
+    let in_workspace_target = manifest.is_file()
+        && target_dir
+            .as_ref()
+            .is_some_and(|t| t.join("CACHEDIR.TAG").is_file());
+    if let (true, Some(target_dir)) = (in_workspace_target, target_dir) {
+        eprintln!(
+            "fmu-pack: {} is missing; building it: cargo build --release -p hydrofmu --lib",
+            beside.display()
+        );
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = std::process::Command::new(cargo)
+            .args([
+                "build",
+                "--release",
+                "-p",
+                "hydrofmu",
+                "--lib",
+                "--manifest-path",
+            ])
+            .arg(manifest)
+            .env("CARGO_TARGET_DIR", &target_dir)
+            .status()
+            .map_err(|e| format!("cannot run cargo: {e}"))?;
+        if !status.success() {
+            return Err(PackError(format!("building hydrofmu failed ({status})")));
+        }
+        let built = target_dir.join("release").join("libhydrofmu.so");
+        return existing(&built, "the release build");
+    }
+    Err(PackError(format!(
+        "cannot find libhydrofmu.so: pass --binary PATH, set HYDROFMU_BINARY, or put it next to {} \
+         (cargo build --release -p hydrofmu --lib)",
+        exe.display()
+    )))
+}
+
+fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
+    if p.is_file() {
+        Ok(p.to_path_buf())
+    } else {
+        Err(PackError(format!(
+            "{source}: {} is not a file",
+            p.display()
+        )))
+    }
+}
+
+/// What `inspect` found in an archive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inspection {
+    /// modelName.
+    pub model_name: String,
+    /// modelIdentifier.
+    pub model_identifier: String,
+    /// GUID in the model description.
+    pub guid: String,
+    /// GUID implied by the resources.
+    pub resources_guid: String,
+    /// DOF names with their velocity units.
+    pub dofs: Vec<(String, String)>,
+    /// Number of scalar variables.
+    pub variables: usize,
+    /// Network states.
+    pub states: usize,
+    /// A_inf kept inside.
+    pub keep_inf_mass: bool,
+    /// Archive entries.
+    pub entries: Vec<String>,
+}
+
+impl fmt::Display for Inspection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "model             {}", self.model_name)?;
+        writeln!(f, "modelIdentifier   {}", self.model_identifier)?;
+        writeln!(
+            f,
+            "GUID              {} ({})",
+            self.guid,
+            if self.guid == self.resources_guid {
+                "matches the resources"
+            } else {
+                "DOES NOT match the resources"
+            }
+        )?;
+        writeln!(f, "DOFs              {}", self.dofs.len())?;
+        for (name, unit) in &self.dofs {
+            writeln!(f, "  {name:<10} velocity in {unit}")?;
+        }
+        writeln!(f, "variables         {}", self.variables)?;
+        writeln!(
+            f,
+            "network           {} states (state size), A_inf {}",
+            self.states,
+            if self.keep_inf_mass {
+                "inside"
+            } else {
+                "outside"
+            }
+        )?;
+        writeln!(f, "entries")?;
+        for e in &self.entries {
+            writeln!(f, "  {e}")?;
+        }
+        Ok(())
+    }
+}
+
+fn read_entry<R: Read + std::io::Seek>(
+    archive: &mut zip::ZipArchive<R>,
+    name: &str,
+) -> Result<Option<String>, PackError> {
+    let mut file = match archive.by_name(name) {
+        Ok(f) => f,
+        Err(zip::result::ZipError::FileNotFound) => return Ok(None),
+        Err(e) => return Err(PackError(format!("{name}: {e}"))),
+    };
+    let mut text = String::new();
+    file.read_to_string(&mut text)
+        .map_err(|e| format!("{name}: {e}"))?;
+    Ok(Some(text))
+}
+
+/// `fmu-pack inspect`.
+pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
+    use quick_xml::events::Event;
+    let file =
+        std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    let mut archive = zip::ZipArchive::new(file)
+        .map_err(|e| format!("{}: not a zip archive: {e}", path.display()))?;
+    let entries: Vec<String> = archive.file_names().map(str::to_string).collect();
+    let description = read_entry(&mut archive, "modelDescription.xml")?
+        .ok_or("no modelDescription.xml in the archive")?;
+    let missing = |n: &str| PackError(format!("no resources/{n} in the archive"));
+    let network = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::NETWORK_FILE),
+    )?
+    .ok_or_else(|| missing(Resources::NETWORK_FILE))?;
+    let options = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::OPTIONS_FILE),
+    )?
+    .ok_or_else(|| missing(Resources::OPTIONS_FILE))?;
+    let hull = read_entry(&mut archive, &format!("resources/{}", Resources::HULL_FILE))?;
+    let resources = Resources::new(network, hull, options).map_err(|e| e.to_string())?;
+    let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
+
+    let mut out = Inspection {
+        model_name: String::new(),
+        model_identifier: String::new(),
+        guid: String::new(),
+        resources_guid: resources.guid(),
+        dofs: Vec::new(),
+        variables: 0,
+        states: model.system().state_size(),
+        keep_inf_mass: resources.keep_inf_mass,
+        entries,
+    };
+    let mut reader = quick_xml::Reader::from_str(&description);
+    let mut current_name = String::new();
+    loop {
+        let event = reader
+            .read_event()
+            .map_err(|e| format!("modelDescription.xml: {e}"))?;
+        let e = match event {
+            Event::Eof => break,
+            Event::Start(e) | Event::Empty(e) => e,
+            _ => continue,
+        };
+        let attr = |key: &str| -> Option<String> {
+            e.attributes()
+                .flatten()
+                .find(|a| a.key.as_ref() == key.as_bytes())
+                .and_then(|a| a.unescape_value().ok().map(|v| v.into_owned()))
+        };
+        match e.name().as_ref() {
+            b"fmiModelDescription" => {
+                out.model_name = attr("modelName").unwrap_or_default();
+                out.guid = attr("guid").unwrap_or_default();
+            }
+            b"CoSimulation" => out.model_identifier = attr("modelIdentifier").unwrap_or_default(),
+            b"ScalarVariable" => {
+                out.variables += 1;
+                current_name = attr("name").unwrap_or_default();
+            }
+            b"Real" => {
+                if let Some(dof) = current_name.strip_prefix("velocity.") {
+                    out.dofs
+                        .push((dof.to_string(), attr("unit").unwrap_or_default()));
+                }
+            }
+            _ => {}
+        }
+    }
+    if out.dofs.len() != model.dof_count() {
+        return Err(PackError(format!(
+            "modelDescription.xml has {} velocity inputs, the network {} DOFs",
+            out.dofs.len(),
+            model.dof_count()
+        )));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hydrofmu::variables::DofUnit;
+
+    const SEED: &str = r#"<network format_version="1" form="series_chain" rho="1" g="1">
+  <dof name="sway"/>
+  <added_mass_inf><row>0.1153</row></added_mass_inf>
+  <branch>
+    <direction>1</direction>
+    <stage mass="0.5434" stiffness="0.2339" damping="0.9962"/>
+    <stage mass="0.1877" stiffness="0.5522" damping="0.2453"/>
+  </branch>
+</network>
+"#;
+
+    fn temp_dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fmu-pack-test-{}-{tag}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn hull() -> HullInfo {
+        HullInfo {
+            name: "Test hull".into(),
+            dofs: vec![
+                DofUnit::builtin("sway").unwrap(),
+                DofUnit::builtin("roll").unwrap(),
+            ],
+            xml: Some("<hull/>".into()),
+            hull: hydrofmu::hull::Hull::semicircle(1.0).unwrap(),
+            depth: None,
+        }
+    }
+
+    #[test]
+    fn the_archive_has_the_fmi_layout_and_matching_guid() {
+        let dir = temp_dir("layout");
+        let binary = dir.join("libfake.so");
+        std::fs::write(&binary, b"\x7fELF fake").unwrap();
+        let out = dir.join("Seed-1.fmu");
+        let id = identifier_from_path(&out);
+        assert_eq!(id, "Seed_1");
+        let summary = pack_network(&hull(), SEED, false, &binary, &id, &out, None).unwrap();
+        assert_eq!(summary.dofs, vec!["sway".to_string()]);
+        assert_eq!(summary.states, 4);
+        let found = inspect(&out).unwrap();
+        assert_eq!(found.guid, summary.guid);
+        assert_eq!(found.resources_guid, summary.guid);
+        assert_eq!(found.model_identifier, "Seed_1");
+        assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
+        let mut names = found.entries.clone();
+        names.sort();
+        assert_eq!(
+            names,
+            vec![
+                "binaries/linux64/Seed_1.so",
+                "documentation/index.html",
+                "modelDescription.xml",
+                "resources/hull.xml",
+                "resources/network.xml",
+                "resources/options.xml",
+            ]
+        );
+        let mut archive = zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap();
+        for i in 0..archive.len() {
+            let f = archive.by_index(i).unwrap();
+            assert_eq!(f.compression(), zip::CompressionMethod::Deflated);
+            assert!(!f.name().contains('\\'));
+            assert!(!f.is_symlink());
+        }
+        // The binary is a byte copy.
+        let mut so = Vec::new();
+        archive
+            .by_name("binaries/linux64/Seed_1.so")
+            .unwrap()
+            .read_to_end(&mut so)
+            .unwrap();
+        assert_eq!(so, b"\x7fELF fake");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn guids_differ_between_networks_hulls_and_flags() {
+        let dir = temp_dir("guid");
+        let binary = dir.join("lib.so");
+        std::fs::write(&binary, b"x").unwrap();
+        let pack = |net: &str, h: &HullInfo, keep: bool, name: &str| {
+            pack_network(h, net, keep, &binary, "M", &dir.join(name), None)
+                .unwrap()
+                .guid
+        };
+        let other_net = SEED.replace("0.1153", "0.1154");
+        let mut other_hull = hull();
+        other_hull.xml = Some("<hull name=\"b\"/>".into());
+        let a = pack(SEED, &hull(), false, "a.fmu");
+        assert_eq!(a, pack(SEED, &hull(), false, "a2.fmu"));
+        assert_ne!(a, pack(&other_net, &hull(), false, "b.fmu"));
+        assert_ne!(a, pack(SEED, &other_hull, false, "c.fmu"));
+        assert_ne!(a, pack(SEED, &hull(), true, "d.fmu"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn mistakes_are_reported_clearly() {
+        let dir = temp_dir("errors");
+        let binary = dir.join("lib.so");
+        std::fs::write(&binary, b"x").unwrap();
+        let out = dir.join("x.fmu");
+        let mut h = hull();
+        h.dofs.remove(0);
+        let e = pack_network(&h, SEED, false, &binary, "X", &out, None).unwrap_err();
+        assert!(e.0.contains("'sway' is not a DOF"), "{e}");
+        let e = pack_network(&hull(), "<nonsense", false, &binary, "X", &out, None).unwrap_err();
+        assert!(e.0.contains("network"), "{e}");
+        let e = pack_network(
+            &hull(),
+            SEED,
+            false,
+            &dir.join("missing.so"),
+            "X",
+            &out,
+            None,
+        )
+        .unwrap_err();
+        assert!(e.0.contains("cannot read the binary"), "{e}");
+        assert!(!out.exists());
+        assert!(locate_binary(Some(&dir.join("missing.so"))).is_err());
+        assert!(inspect(&binary).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -1,0 +1,618 @@
+//! Exact discretization of `z' = A z + B u` over one communication step h.
+//!
+//! With the input held (zero-order hold, ZOH) or ramped (first-order hold, FOH, when the
+//! master gives the input derivative `u'`) over the step,
+//!
+//! ```text
+//! z(t + h) = Phi z(t) + Gamma0 u(t) + Gamma1 u'(t)
+//! Phi    = exp(A h)
+//! Gamma0 = integral_0^h exp(A s) ds B
+//! Gamma1 = integral_0^h exp(A (h - s)) s ds B
+//! ```
+//!
+//! is exact for those inputs. All three blocks come from one exponential of an augmented
+//! matrix (Van Loan):
+//!
+//! ```text
+//!        [A  B  0]     [Phi  Gamma0  Gamma1]
+//! exp(h  [0  0  I]) =  [0    I       h I   ]
+//!        [0  0  0]     [0    0       I     ]
+//! ```
+//!
+//! (the last block row and column are dropped for ZOH). The exponential is computed by
+//! scaling and squaring with diagonal Pade approximants of degree 3, 5, 7, 9 or 13, chosen by
+//! the 1-norm as in Higham, "The scaling and squaring method for the matrix exponential
+//! revisited" (SIAM J. Matrix Anal. Appl. 26, 2005): backward error below the unit roundoff.
+//!
+//! [`DiscretizationCache`] keeps the last few step sizes (masters usually use one or two).
+
+use nalgebra::DMatrix;
+use std::fmt;
+
+/// Why a step could not be discretized.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DiscretizeError {
+    /// The step size is not a finite positive number.
+    BadStepSize(f64),
+    /// The matrices do not fit together.
+    Dimensions(String),
+    /// The exponential produced non-finite numbers or a singular Pade denominator.
+    NotFinite,
+}
+
+impl fmt::Display for DiscretizeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DiscretizeError::BadStepSize(h) => {
+                write!(f, "step size {h} is not a finite positive number")
+            }
+            DiscretizeError::Dimensions(what) => write!(f, "dimension mismatch: {what}"),
+            DiscretizeError::NotFinite => {
+                write!(
+                    f,
+                    "the matrix exponential is not finite (step size too large?)"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for DiscretizeError {}
+
+const PADE3: [f64; 4] = [120.0, 60.0, 12.0, 1.0];
+const PADE5: [f64; 6] = [30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0];
+const PADE7: [f64; 8] = [
+    17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0,
+];
+const PADE9: [f64; 10] = [
+    17643225600.0,
+    8821612800.0,
+    2075673600.0,
+    302702400.0,
+    30270240.0,
+    2162160.0,
+    110880.0,
+    3960.0,
+    90.0,
+    1.0,
+];
+const PADE13: [f64; 14] = [
+    64764752532480000.0,
+    32382376266240000.0,
+    7771770303897600.0,
+    1187353796428800.0,
+    129060195264000.0,
+    10559470521600.0,
+    670442572800.0,
+    33522128640.0,
+    1323241920.0,
+    40840800.0,
+    960960.0,
+    16380.0,
+    182.0,
+    1.0,
+];
+/// Largest 1-norms for which Pade 3, 5, 7, 9, 13 reach unit roundoff (Higham 2005, table 2.3).
+const THETA: [f64; 5] = [
+    1.495585217958292e-2,
+    2.539_398_330_063_23e-1,
+    9.504178996162932e-1,
+    2.097847961257068,
+    5.371920351148152,
+];
+
+fn norm1(a: &DMatrix<f64>) -> f64 {
+    a.column_iter()
+        .map(|c| c.iter().map(|x| x.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Pade approximant r_m(A) = (V - U)^-1 (V + U) with even and odd parts from `coef`.
+fn pade(a: &DMatrix<f64>, coef: &[f64]) -> Option<DMatrix<f64>> {
+    let n = a.nrows();
+    let identity = DMatrix::<f64>::identity(n, n);
+    let a2 = a * a;
+    let (u, v) = if coef.len() < 14 {
+        // Powers A^0, A^2, A^4, ...
+        let mut even = identity.clone();
+        let mut odd_sum = DMatrix::<f64>::zeros(n, n);
+        let mut even_sum = DMatrix::<f64>::zeros(n, n);
+        for k in 0..coef.len() / 2 {
+            even_sum += &even * coef[2 * k];
+            odd_sum += &even * coef[2 * k + 1];
+            even = &even * &a2;
+        }
+        (a * odd_sum, even_sum)
+    } else {
+        let b = coef;
+        let a4 = &a2 * &a2;
+        let a6 = &a4 * &a2;
+        let u_inner = &a6 * (&a6 * b[13] + &a4 * b[11] + &a2 * b[9])
+            + &a6 * b[7]
+            + &a4 * b[5]
+            + &a2 * b[3]
+            + &identity * b[1];
+        let u = a * u_inner;
+        let v = &a6 * (&a6 * b[12] + &a4 * b[10] + &a2 * b[8])
+            + &a6 * b[6]
+            + &a4 * b[4]
+            + &a2 * b[2]
+            + &identity * b[0];
+        (u, v)
+    };
+    let denominator = &v - &u;
+    let numerator = &v + &u;
+    denominator.lu().solve(&numerator)
+}
+
+/// Matrix exponential by scaling and squaring with Pade approximants (module docs).
+///
+/// Returns [`DiscretizeError::NotFinite`] if the result is not finite.
+pub fn expm(a: &DMatrix<f64>) -> Result<DMatrix<f64>, DiscretizeError> {
+    if a.nrows() != a.ncols() {
+        return Err(DiscretizeError::Dimensions(format!(
+            "exponential of a {}x{} matrix",
+            a.nrows(),
+            a.ncols()
+        )));
+    }
+    if a.iter().any(|x| !x.is_finite()) {
+        return Err(DiscretizeError::NotFinite);
+    }
+    let norm = norm1(a);
+    let small: [&[f64]; 4] = [&PADE3, &PADE5, &PADE7, &PADE9];
+    for (coef, theta) in small.iter().zip(THETA) {
+        if norm <= theta {
+            return finite(pade(a, coef));
+        }
+    }
+    let squarings = if norm > THETA[4] {
+        (norm / THETA[4]).log2().ceil().max(0.0) as i32
+    } else {
+        0
+    };
+    if squarings > 1000 {
+        return Err(DiscretizeError::NotFinite);
+    }
+    let scaled = a / 2f64.powi(squarings);
+    let mut r = finite(pade(&scaled, &PADE13))?;
+    for _ in 0..squarings {
+        r = &r * &r;
+    }
+    finite(Some(r))
+}
+
+fn finite(r: Option<DMatrix<f64>>) -> Result<DMatrix<f64>, DiscretizeError> {
+    match r {
+        Some(r) if r.iter().all(|x| x.is_finite()) => Ok(r),
+        _ => Err(DiscretizeError::NotFinite),
+    }
+}
+
+/// The matrices of one step (module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Discretization {
+    /// Step size h.
+    pub step: f64,
+    /// `exp(A h)`.
+    pub phi: DMatrix<f64>,
+    /// Response to an input held over the step.
+    pub gamma0: DMatrix<f64>,
+    /// Response to an input ramp `u' s` over the step (present with first-order hold).
+    pub gamma1: Option<DMatrix<f64>>,
+    /// `[Phi | Gamma0 | Gamma1]` (Gamma1 only with first-order hold) by its non-zero
+    /// entries: one step is `z+ = step_map [z; u; u']`.
+    pub step_map: LinearMap,
+}
+
+/// A matrix stored by its non-zero entries (compressed rows): `y = M x` costs one multiply
+/// per non-zero. Networks of independent chains give block-diagonal `Phi`, whose exact
+/// zeros (kept exact by the exponential) are skipped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearMap {
+    rows: usize,
+    cols: usize,
+    row_start: Vec<usize>,
+    col: Vec<usize>,
+    value: Vec<f64>,
+}
+
+impl LinearMap {
+    /// The map of `m`.
+    pub fn new(m: &DMatrix<f64>) -> LinearMap {
+        let mut row_start = Vec::with_capacity(m.nrows() + 1);
+        let mut col = Vec::new();
+        let mut value = Vec::new();
+        row_start.push(0);
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                let x = m[(i, j)];
+                if x != 0.0 {
+                    col.push(j);
+                    value.push(x);
+                }
+            }
+            row_start.push(col.len());
+        }
+        LinearMap {
+            rows: m.nrows(),
+            cols: m.ncols(),
+            row_start,
+            col,
+            value,
+        }
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// Number of stored (non-zero) entries.
+    pub fn non_zeros(&self) -> usize {
+        self.value.len()
+    }
+
+    /// `y = M x`. Panics if the lengths do not match (a programming error).
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        assert!(x.len() == self.cols && y.len() == self.rows);
+        for (i, out) in y.iter_mut().enumerate() {
+            let (a, b) = (self.row_start[i], self.row_start[i + 1]);
+            let mut sum = 0.0;
+            for (c, v) in self.col[a..b].iter().zip(&self.value[a..b]) {
+                sum += v * x[*c];
+            }
+            *out = sum;
+        }
+    }
+}
+
+/// Discretizes `z' = A z + B u` over h, with first-order hold if `first_order_hold`.
+pub fn discretize(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    step: f64,
+    first_order_hold: bool,
+) -> Result<Discretization, DiscretizeError> {
+    if !(step.is_finite() && step > 0.0) {
+        return Err(DiscretizeError::BadStepSize(step));
+    }
+    let ns = a.nrows();
+    if a.ncols() != ns || b.nrows() != ns {
+        return Err(DiscretizeError::Dimensions(format!(
+            "A is {}x{}, B is {}x{}",
+            a.nrows(),
+            a.ncols(),
+            b.nrows(),
+            b.ncols()
+        )));
+    }
+    let m = b.ncols();
+    let size = if first_order_hold { ns + 2 * m } else { ns + m };
+    let mut big = DMatrix::<f64>::zeros(size, size);
+    big.view_mut((0, 0), (ns, ns)).copy_from(&(a * step));
+    big.view_mut((0, ns), (ns, m)).copy_from(&(b * step));
+    if first_order_hold {
+        for i in 0..m {
+            big[(ns + i, ns + m + i)] = step;
+        }
+    }
+    let e = expm(&big)?;
+    Ok(Discretization {
+        step,
+        phi: e.view((0, 0), (ns, ns)).into_owned(),
+        gamma0: e.view((0, ns), (ns, m)).into_owned(),
+        // big = h M with M the unscaled augmented matrix, so this block is exactly Gamma1.
+        gamma1: first_order_hold.then(|| e.view((0, ns + m), (ns, m)).into_owned()),
+        step_map: LinearMap::new(&e.view((0, 0), (ns, size)).into_owned()),
+    })
+}
+
+/// Discretizations of one system for the last few step sizes (least recently used goes).
+#[derive(Clone, Debug)]
+pub struct DiscretizationCache {
+    a: DMatrix<f64>,
+    b: DMatrix<f64>,
+    capacity: usize,
+    /// Most recently used last.
+    entries: Vec<Discretization>,
+}
+
+impl DiscretizationCache {
+    /// Number of step sizes kept by default.
+    pub const DEFAULT_CAPACITY: usize = 4;
+
+    /// A cache for `z' = A z + B u`.
+    pub fn new(a: DMatrix<f64>, b: DMatrix<f64>) -> Result<Self, DiscretizeError> {
+        if a.nrows() != a.ncols() || b.nrows() != a.nrows() {
+            return Err(DiscretizeError::Dimensions(format!(
+                "A is {}x{}, B is {}x{}",
+                a.nrows(),
+                a.ncols(),
+                b.nrows(),
+                b.ncols()
+            )));
+        }
+        Ok(DiscretizationCache {
+            a,
+            b,
+            capacity: Self::DEFAULT_CAPACITY,
+            entries: Vec::with_capacity(Self::DEFAULT_CAPACITY),
+        })
+    }
+
+    /// State matrix A.
+    pub fn a(&self) -> &DMatrix<f64> {
+        &self.a
+    }
+
+    /// Input matrix B.
+    pub fn b(&self) -> &DMatrix<f64> {
+        &self.b
+    }
+
+    /// Number of cached step sizes.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when nothing is cached.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The discretization for step h, computed once per step size while it stays among the
+    /// last few used. It always carries `Gamma1`, so that the matrices (to the last bit) do
+    /// not depend on whether the master ever used first-order hold.
+    pub fn get(&mut self, step: f64) -> Result<&Discretization, DiscretizeError> {
+        let found = self
+            .entries
+            .iter()
+            .rposition(|d| d.step.to_bits() == step.to_bits());
+        let index = match found {
+            Some(i) => {
+                if i + 1 != self.entries.len() {
+                    let entry = self.entries.remove(i);
+                    self.entries.push(entry);
+                }
+                self.entries.len() - 1
+            }
+            None => {
+                let d = discretize(&self.a, &self.b, step, true)?;
+                if self.entries.len() >= self.capacity {
+                    self.entries.remove(0);
+                }
+                self.entries.push(d);
+                self.entries.len() - 1
+            }
+        };
+        Ok(&self.entries[index])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DVector;
+
+    /// The seed's 2-DOF network (hull held): z = [e1, e2, w1, w2].
+    fn seed_system() -> (DMatrix<f64>, DMatrix<f64>) {
+        let (m1, k1, c1, m2, k2, c2) = (0.5434, 0.2339, 0.9962, 0.1877, 0.5522, 0.2453);
+        let a = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                0.0,
+                0.0,
+                -1.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                -1.0,
+                k1 / m1,
+                -k2 / m1,
+                -(c1 + c2) / m1,
+                c2 / m1,
+                0.0,
+                k2 / m2,
+                c2 / m2,
+                -c2 / m2,
+            ],
+        );
+        let b = DMatrix::from_column_slice(4, 1, &[1.0, 0.0, c1 / m1, 0.0]);
+        (a, b)
+    }
+
+    fn max_abs(m: &DMatrix<f64>) -> f64 {
+        m.iter().fold(0.0, |acc, x| acc.max(x.abs()))
+    }
+
+    /// exp by an explicit Taylor series (only for small norms).
+    fn taylor(a: &DMatrix<f64>) -> DMatrix<f64> {
+        let n = a.nrows();
+        let mut term = DMatrix::<f64>::identity(n, n);
+        let mut sum = term.clone();
+        for k in 1..40 {
+            term = &term * a / k as f64;
+            sum += &term;
+        }
+        sum
+    }
+
+    #[test]
+    fn exponential_matches_taylor_series_for_small_steps() {
+        let (a, _) = seed_system();
+        for h in [1e-6, 1e-3, 0.05, 0.3, 1.0] {
+            let e = expm(&(&a * h)).unwrap();
+            let t = taylor(&(&a * h));
+            // Taylor with 40 terms is exact to rounding for |A h| <= ~5.
+            assert!(max_abs(&(e - &t)) < 1e-14 * max_abs(&t).max(1.0), "h = {h}");
+        }
+    }
+
+    #[test]
+    fn exponential_matches_eigen_decomposition_for_long_steps() {
+        // Symmetric negative definite A: exp(A h) = V exp(L h) V^T independently.
+        let s = DMatrix::from_row_slice(3, 3, &[-2.0, 0.5, 0.1, 0.5, -1.0, 0.3, 0.1, 0.3, -0.7]);
+        let eig = s.clone().symmetric_eigen();
+        for h in [1e-6, 1.0, 10.0, 100.0] {
+            let e = expm(&(&s * h)).unwrap();
+            let diag = DVector::from_iterator(3, eig.eigenvalues.iter().map(|l| (l * h).exp()));
+            let reference =
+                &eig.eigenvectors * DMatrix::from_diagonal(&diag) * eig.eigenvectors.transpose();
+            // Relative to the largest entry; squaring loses ~log2(|A h|) bits at most.
+            let scale = max_abs(&reference).max(1e-300);
+            assert!(
+                max_abs(&(e - &reference)) <= 1e-12 * scale,
+                "h = {h}: {}",
+                max_abs(&(expm(&(&s * h)).unwrap() - &reference)) / scale
+            );
+        }
+    }
+
+    #[test]
+    fn exponential_agrees_with_nalgebra_and_semigroup_property() {
+        let (a, _) = seed_system();
+        for h in [0.01, 3.0, 100.0] {
+            let e = expm(&(&a * h)).unwrap();
+            let other = (&a * h).exp();
+            assert!(max_abs(&(&e - &other)) < 1e-10, "h = {h}");
+            let half = expm(&(&a * (h / 2.0))).unwrap();
+            assert!(max_abs(&(&half * &half - &e)) < 1e-12, "h = {h}");
+        }
+    }
+
+    #[test]
+    fn input_blocks_match_closed_forms() {
+        // A invertible: Gamma0 = A^-1 (Phi - I) B, Gamma1 = A^-2 (Phi - I - A h) B.
+        let (a, b) = seed_system();
+        let inv = a.clone().try_inverse().unwrap();
+        let id = DMatrix::<f64>::identity(4, 4);
+        for h in [0.01, 0.5, 7.0, 100.0] {
+            let d = discretize(&a, &b, h, true).unwrap();
+            let g0 = &inv * (&d.phi - &id) * &b;
+            let g1 = &inv * &inv * (&d.phi - &id - &a * h) * &b;
+            assert!(
+                max_abs(&(&d.gamma0 - &g0)) < 1e-11 * max_abs(&g0).max(1.0),
+                "h = {h}"
+            );
+            let g1_err = max_abs(&(d.gamma1.as_ref().unwrap() - &g1));
+            assert!(g1_err < 1e-10 * max_abs(&g1).max(1.0), "h = {h}: {g1_err}");
+        }
+    }
+
+    #[test]
+    fn input_blocks_match_series_for_tiny_steps() {
+        // Gamma0 = sum A^k h^(k+1)/(k+1)! B, Gamma1 = sum A^k h^(k+2)/(k+2)! B.
+        let (a, b) = seed_system();
+        for h in [1e-6, 1e-4] {
+            let d = discretize(&a, &b, h, true).unwrap();
+            let mut g0 = DMatrix::<f64>::zeros(4, 1);
+            let mut g1 = DMatrix::<f64>::zeros(4, 1);
+            let mut power = b.clone();
+            let mut fact0 = 1.0;
+            let mut fact1 = 2.0;
+            for k in 0..12 {
+                fact0 *= (k + 1) as f64;
+                if k > 0 {
+                    fact1 *= (k + 2) as f64;
+                }
+                g0 += &power * (h.powi(k + 1) / fact0);
+                g1 += &power * (h.powi(k + 2) / fact1);
+                power = &a * power;
+            }
+            // Relative accuracy near rounding even though the blocks are ~h and ~h^2.
+            assert!(
+                max_abs(&(&d.gamma0 - &g0)) < 1e-14 * max_abs(&g0),
+                "h = {h}"
+            );
+            let g1_err = max_abs(&(d.gamma1.as_ref().unwrap() - &g1));
+            assert!(g1_err < 1e-13 * max_abs(&g1), "h = {h}: {g1_err}");
+        }
+    }
+
+    #[test]
+    fn step_responses_are_consistent_under_splitting() {
+        // Two half steps with a ramp equal one full step (exactness of FOH).
+        let (a, b) = seed_system();
+        let z0 = DVector::from_vec(vec![0.1, -0.2, 0.3, 0.05]);
+        let (u, du) = (0.7, -1.3);
+        let h = 0.4;
+        let full = discretize(&a, &b, h, true).unwrap();
+        let half = discretize(&a, &b, h / 2.0, true).unwrap();
+        let step = |d: &Discretization, z: &DVector<f64>, u: f64, du: f64| {
+            &d.phi * z + d.gamma0.column(0) * u + d.gamma1.as_ref().unwrap().column(0) * du
+        };
+        let one = step(&full, &z0, u, du);
+        let mid = step(&half, &z0, u, du);
+        let two = step(&half, &mid, u + du * h / 2.0, du);
+        assert!((one - two).amax() < 1e-14);
+    }
+
+    #[test]
+    fn the_sparse_step_map_equals_the_dense_blocks_and_skips_exact_zeros() {
+        // Two independent copies of the seed chain: block-diagonal A.
+        let (a1, b1) = seed_system();
+        let mut a = DMatrix::<f64>::zeros(8, 8);
+        let mut b = DMatrix::<f64>::zeros(8, 2);
+        a.view_mut((0, 0), (4, 4)).copy_from(&a1);
+        a.view_mut((4, 4), (4, 4)).copy_from(&(&a1 * 2.0));
+        b.view_mut((0, 0), (4, 1)).copy_from(&b1);
+        b.view_mut((4, 1), (4, 1)).copy_from(&b1);
+        let d = discretize(&a, &b, 0.37, true).unwrap();
+        // Phi: 2 blocks of 16; Gamma0, Gamma1: 4 per column (at most).
+        assert!(
+            d.step_map.non_zeros() <= 2 * 16 + 2 * 8,
+            "{}",
+            d.step_map.non_zeros()
+        );
+        let x: Vec<f64> = (0..12).map(|k| (k as f64 * 0.7).sin()).collect();
+        let mut y = vec![0.0; 8];
+        d.step_map.apply(&x, &mut y);
+        let z = DVector::from_column_slice(&x[..8]);
+        let u = DVector::from_column_slice(&x[8..10]);
+        let du = DVector::from_column_slice(&x[10..12]);
+        let dense = &d.phi * z + &d.gamma0 * u + d.gamma1.as_ref().unwrap() * du;
+        for i in 0..8 {
+            assert!((y[i] - dense[i]).abs() < 1e-15, "{i}");
+        }
+    }
+
+    #[test]
+    fn bad_steps_are_rejected() {
+        let (a, b) = seed_system();
+        for h in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                discretize(&a, &b, h, false),
+                Err(DiscretizeError::BadStepSize(_))
+            ));
+        }
+        let wrong = DMatrix::<f64>::zeros(3, 1);
+        assert!(matches!(
+            discretize(&a, &wrong, 0.1, false),
+            Err(DiscretizeError::Dimensions(_))
+        ));
+        let unstable = DMatrix::from_element(1, 1, 1.0);
+        assert_eq!(expm(&(unstable * 1e6)), Err(DiscretizeError::NotFinite));
+    }
+
+    #[test]
+    fn cache_keeps_recent_steps() {
+        let (a, b) = seed_system();
+        let mut cache = DiscretizationCache::new(a.clone(), b.clone()).unwrap();
+        let first = cache.get(0.01).unwrap().clone();
+        assert_eq!(first, discretize(&a, &b, 0.01, true).unwrap());
+        assert_eq!(cache.len(), 1);
+        for k in 1..=10 {
+            cache.get(0.01 * k as f64).unwrap();
+        }
+        assert_eq!(cache.len(), DiscretizationCache::DEFAULT_CAPACITY);
+        assert!(cache.get(-1.0).is_err());
+    }
+}

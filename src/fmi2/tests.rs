@@ -1,0 +1,784 @@
+//! The C ABI exercised from Rust, with a Rust logger, including every bad call.
+
+use super::*;
+use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
+use crate::model_description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Log lines: (status, category, message as received, i.e. with `%%`).
+type Log = Mutex<Vec<(i32, String, String)>>;
+
+unsafe extern "C" fn rust_logger(
+    env: fmi2ComponentEnvironment,
+    _name: fmi2String,
+    status: fmi2Status,
+    category: fmi2String,
+    message: fmi2String,
+) {
+    let log = &*(env as *const Log);
+    let text = |p: fmi2String| CStr::from_ptr(p).to_string_lossy().into_owned();
+    log.lock()
+        .unwrap()
+        .push((status, text(category), text(message)));
+}
+
+fn callbacks(log: &Log) -> fmi2CallbackFunctions {
+    // SAFETY (test only): on x86-64 System V a non-variadic callee ignores the vector
+    // register count a variadic call passes; we never pass variadic arguments.
+    let logger = unsafe {
+        std::mem::transmute::<
+            unsafe extern "C" fn(
+                fmi2ComponentEnvironment,
+                fmi2String,
+                fmi2Status,
+                fmi2String,
+                fmi2String,
+            ),
+            fmi2CallbackLogger,
+        >(rust_logger)
+    };
+    fmi2CallbackFunctions {
+        logger: Some(logger),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: log as *const Log as *mut c_void,
+    }
+}
+
+static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+/// An unpacked FMU's resources folder on disk.
+struct Unpacked {
+    dir: PathBuf,
+    guid: CString,
+}
+
+impl Unpacked {
+    fn new(network: &str, keep: bool, folder_name: &str) -> Unpacked {
+        let dir = std::env::temp_dir().join(format!(
+            "hydrofmu-fmi2-{}-{}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::SeqCst)
+        ));
+        let resources = dir.join(folder_name);
+        std::fs::create_dir_all(&resources).unwrap();
+        std::fs::write(resources.join(Resources::NETWORK_FILE), network).unwrap();
+        std::fs::write(
+            resources.join(Resources::OPTIONS_FILE),
+            Resources::options_text(keep),
+        )
+        .unwrap();
+        let guid = Resources::read(&resources).unwrap().guid();
+        Unpacked {
+            dir: resources,
+            guid: CString::new(guid).unwrap(),
+        }
+    }
+
+    fn uri(&self) -> CString {
+        CString::new(format!("file://{}", self.dir.display())).unwrap()
+    }
+}
+
+impl Drop for Unpacked {
+    fn drop(&mut self) {
+        if let Some(parent) = self.dir.parent() {
+            let _ = std::fs::remove_dir_all(parent);
+        }
+    }
+}
+
+fn instantiate(
+    fmu: &Unpacked,
+    uri: &CStr,
+    functions: &fmi2CallbackFunctions,
+    logging: bool,
+) -> fmi2Component {
+    unsafe {
+        fmi2Instantiate(
+            c"hull%1".as_ptr(),
+            fmi2CoSimulation,
+            fmu.guid.as_ptr(),
+            uri.as_ptr(),
+            functions,
+            0,
+            c_int::from(logging),
+        )
+    }
+}
+
+/// Instantiated and initialized at rho = g = 1.
+fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
+    let c = instantiate(fmu, &fmu.uri(), functions, false);
+    assert!(!c.is_null());
+    unsafe {
+        set(c, &[VR_RHO, VR_G], &[1.0, 1.0]);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2OK);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2OK);
+    }
+    c
+}
+
+unsafe fn set(c: fmi2Component, vr: &[u32], v: &[f64]) {
+    assert_eq!(fmi2SetReal(c, vr.as_ptr(), vr.len(), v.as_ptr()), fmi2OK);
+}
+
+unsafe fn get(c: fmi2Component, vr: &[u32]) -> Vec<f64> {
+    let mut out = vec![0.0; vr.len()];
+    assert_eq!(
+        fmi2GetReal(c, vr.as_ptr(), vr.len(), out.as_mut_ptr()),
+        fmi2OK
+    );
+    out
+}
+
+unsafe fn phase(c: fmi2Component) -> Phase {
+    (*(c as *mut Instance)).phase
+}
+
+const VELOCITY: u32 = FIRST_PER_HULL_REFERENCE;
+const FORCE: u32 = FIRST_PER_HULL_REFERENCE + 1;
+const POWER: u32 = FIRST_PER_HULL_REFERENCE + 2;
+const ENERGY: u32 = FIRST_PER_HULL_REFERENCE + 3;
+const ADDED_MASS: u32 = FIRST_PER_HULL_REFERENCE + 4;
+const DAMPING: u32 = FIRST_PER_HULL_REFERENCE + 5;
+
+#[test]
+fn version_and_platform() {
+    let v = unsafe { CStr::from_ptr(fmi2GetVersion()) };
+    assert_eq!(v.to_str().unwrap(), "2.0");
+    let p = unsafe { CStr::from_ptr(fmi2GetTypesPlatform()) };
+    assert_eq!(p.to_str().unwrap(), "default");
+}
+
+#[test]
+fn a_normal_run_matches_the_network() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let c = ready(&fmu, &callbacks(&log));
+    unsafe {
+        // At rest: force = -c1 v, power = c1 v^2, calculated parameters at rho = g = 1.
+        set(c, &[VELOCITY], &[2.0]);
+        let v = get(c, &[FORCE, POWER, ENERGY, ADDED_MASS, DAMPING]);
+        assert_eq!(v, vec![-0.9962 * 2.0, 0.9962 * 4.0, 0.0, 0.1153, 0.9962]);
+        let mut t = 0.0;
+        for _ in 0..100 {
+            assert_eq!(fmi2DoStep(c, t, 0.01, 1), fmi2OK);
+            t += 0.01;
+        }
+        let mut last = 0.0;
+        assert_eq!(
+            fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &mut last),
+            fmi2OK
+        );
+        assert!((last - 1.0).abs() < 1e-12);
+        let e = get(c, &[ENERGY])[0];
+        assert!(e > 0.0);
+        // Directional derivative d force / d velocity = -damping_direct.
+        let mut d = 0.0;
+        let seed = 1.0;
+        assert_eq!(
+            fmi2GetDirectionalDerivative(c, &FORCE, 1, &VELOCITY, 1, &seed, &mut d),
+            fmi2OK
+        );
+        assert_eq!(d, -0.9962);
+        let mut dp = 0.0;
+        let order = 1;
+        assert_eq!(
+            fmi2GetRealOutputDerivatives(c, &FORCE, 1, &order, &mut dp),
+            fmi2OK
+        );
+        assert!(dp.is_finite());
+        let mut terminated = 1;
+        assert_eq!(
+            fmi2GetBooleanStatus(c, fmi2Terminated, &mut terminated),
+            fmi2OK
+        );
+        assert_eq!(terminated, 0);
+        assert_eq!(fmi2Terminate(c), fmi2OK);
+        assert_eq!(get(c, &[FORCE]).len(), 1);
+        fmi2FreeInstance(c);
+    }
+    // Nothing was logged: logging off and no errors.
+    assert!(log.lock().unwrap().is_empty());
+}
+
+#[test]
+fn resource_locations_in_every_accepted_spelling() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "res ources%");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let path = fmu.dir.display().to_string();
+    let encoded = path.replace('%', "%25").replace(' ', "%20");
+    for uri in [
+        format!("file://{encoded}"),
+        format!("file://{encoded}/"),
+        format!("file:{encoded}"),
+        format!("file://localhost{encoded}"),
+        format!("file://{}", encoded.replace("/tmp", "/%74mp")),
+    ] {
+        let c = instantiate(&fmu, &CString::new(uri.clone()).unwrap(), &f, false);
+        assert!(!c.is_null(), "{uri}: {:?}", log.lock().unwrap());
+        unsafe { fmi2FreeInstance(c) };
+    }
+    assert_eq!(
+        resource_path("file:///a%20b/").unwrap(),
+        PathBuf::from("/a b/")
+    );
+    for bad in [
+        "http://example.com/resources",
+        "/plain/path",
+        "file://otherhost/x",
+        "file:///bad%zz",
+        "file:///nul%00",
+        "",
+    ] {
+        assert!(resource_path(bad).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn instantiation_refuses_bad_arguments_and_logs_why() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let uri = fmu.uri();
+    unsafe {
+        let wrong_guid = c"{00000000-0000-0000-0000-000000000000}";
+        let cases: Vec<(fmi2String, fmi2Type, fmi2String, fmi2String)> = vec![
+            (
+                c"a".as_ptr(),
+                fmi2ModelExchange,
+                fmu.guid.as_ptr(),
+                uri.as_ptr(),
+            ),
+            (c"a".as_ptr(), 7, fmu.guid.as_ptr(), uri.as_ptr()),
+            (
+                c"a".as_ptr(),
+                fmi2CoSimulation,
+                wrong_guid.as_ptr(),
+                uri.as_ptr(),
+            ),
+            (
+                c"a".as_ptr(),
+                fmi2CoSimulation,
+                std::ptr::null(),
+                uri.as_ptr(),
+            ),
+            (
+                c"a".as_ptr(),
+                fmi2CoSimulation,
+                fmu.guid.as_ptr(),
+                std::ptr::null(),
+            ),
+            (
+                c"a".as_ptr(),
+                fmi2CoSimulation,
+                fmu.guid.as_ptr(),
+                c"http://x/r".as_ptr(),
+            ),
+            (
+                c"a".as_ptr(),
+                fmi2CoSimulation,
+                fmu.guid.as_ptr(),
+                c"file:///nonexistent/r".as_ptr(),
+            ),
+            (
+                std::ptr::null(),
+                fmi2CoSimulation,
+                fmu.guid.as_ptr(),
+                uri.as_ptr(),
+            ),
+            (
+                c"".as_ptr(),
+                fmi2CoSimulation,
+                fmu.guid.as_ptr(),
+                uri.as_ptr(),
+            ),
+        ];
+        let count = cases.len();
+        for (name, kind, guid, location) in cases {
+            let c = fmi2Instantiate(name, kind, guid, location, &f, 0, 0);
+            assert!(c.is_null());
+        }
+        assert!(fmi2Instantiate(
+            c"a".as_ptr(),
+            fmi2CoSimulation,
+            fmu.guid.as_ptr(),
+            uri.as_ptr(),
+            std::ptr::null(),
+            0,
+            0
+        )
+        .is_null());
+        let log = log.lock().unwrap();
+        assert_eq!(log.len(), count);
+        assert!(log
+            .iter()
+            .all(|(s, c, _)| *s == fmi2Error && c == "logStatusError"));
+        assert!(log[2].2.contains("does not match"), "{}", log[2].2);
+    }
+    // Resources changed after packing: the GUID no longer matches.
+    std::fs::write(fmu.dir.join(Resources::NETWORK_FILE), TWO_DOF_NETWORK).unwrap();
+    let log = Log::default();
+    let f = callbacks(&log);
+    assert!(instantiate(&fmu, &uri, &f, false).is_null());
+}
+
+#[test]
+fn a_null_logger_is_tolerated() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let f = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    };
+    let c = instantiate(&fmu, &fmu.uri(), &f, true);
+    assert!(!c.is_null());
+    unsafe {
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2Error);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn every_function_refuses_a_null_or_foreign_component() {
+    let mut garbage = [0u64; 64];
+    let foreign = garbage.as_mut_ptr() as fmi2Component;
+    for c in [std::ptr::null_mut(), foreign] {
+        unsafe {
+            let mut x = 0.0;
+            let mut i = 0;
+            let mut s: fmi2String = std::ptr::null();
+            let mut st: fmi2FMUstate = std::ptr::null_mut();
+            let mut size = 0usize;
+            let mut status = 0;
+            let r = 0u32;
+            let results = [
+                fmi2SetDebugLogging(c, 1, 0, std::ptr::null()),
+                fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
+                fmi2EnterInitializationMode(c),
+                fmi2ExitInitializationMode(c),
+                fmi2Terminate(c),
+                fmi2Reset(c),
+                fmi2GetReal(c, &r, 1, &mut x),
+                fmi2GetInteger(c, &r, 1, &mut i),
+                fmi2GetBoolean(c, &r, 1, &mut i),
+                fmi2GetString(c, &r, 1, &mut s),
+                fmi2SetReal(c, &r, 1, &x),
+                fmi2SetInteger(c, &r, 1, &i),
+                fmi2SetBoolean(c, &r, 1, &i),
+                fmi2SetString(c, &r, 1, &s),
+                fmi2GetFMUstate(c, &mut st),
+                fmi2SetFMUstate(c, st),
+                fmi2FreeFMUstate(c, &mut st),
+                fmi2SerializedFMUstateSize(c, st, &mut size),
+                fmi2SerializeFMUstate(c, st, std::ptr::null_mut(), 0),
+                fmi2DeSerializeFMUstate(c, std::ptr::null(), 0, &mut st),
+                fmi2GetDirectionalDerivative(c, &r, 1, &r, 1, &x, &mut x),
+                fmi2SetRealInputDerivatives(c, &r, 1, &i, &x),
+                fmi2GetRealOutputDerivatives(c, &r, 1, &i, &mut x),
+                fmi2DoStep(c, 0.0, 0.1, 0),
+                fmi2CancelStep(c),
+                fmi2GetStatus(c, fmi2DoStepStatus, &mut status),
+                fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &mut x),
+                fmi2GetIntegerStatus(c, fmi2DoStepStatus, &mut i),
+                fmi2GetBooleanStatus(c, fmi2Terminated, &mut i),
+                fmi2GetStringStatus(c, fmi2DoStepStatus, &mut s),
+            ];
+            assert!(results.iter().all(|r| *r == fmi2Error), "{results:?}");
+            fmi2FreeInstance(c);
+        }
+    }
+    assert!(garbage.iter().all(|x| *x == 0));
+}
+
+#[test]
+fn calls_in_the_wrong_phase_are_refused_without_changing_it() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let c = instantiate(&fmu, &fmu.uri(), &f, false);
+    unsafe {
+        let mut x = 0.0;
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2Error);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2Error);
+        assert_eq!(fmi2Terminate(c), fmi2Error);
+        assert_eq!(fmi2GetReal(c, &FORCE, 1, &mut x), fmi2Error);
+        assert_eq!(fmi2CancelStep(c), fmi2Error);
+        assert_eq!(phase(c), Phase::Instantiated);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Error);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2Error);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2Terminate(c), fmi2OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2Error);
+        assert_eq!(fmi2SetReal(c, &VELOCITY, 1, &1.0), fmi2Error);
+        assert_eq!(phase(c), Phase::Terminated);
+        assert_eq!(fmi2Reset(c), fmi2OK);
+        assert_eq!(phase(c), Phase::Instantiated);
+        fmi2FreeInstance(c);
+    }
+    let log = log.lock().unwrap();
+    assert_eq!(log.len(), 9);
+    assert!(log
+        .iter()
+        .all(|(_, _, m)| m.contains("not allowed in phase")));
+}
+
+#[test]
+fn every_bad_call_gets_an_error_and_reset_recovers() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let c = ready(&fmu, &f);
+    unsafe {
+        set(c, &[VELOCITY], &[1.0]);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.5, 0), fmi2OK);
+        let reference = get(c, &[FORCE, ENERGY, VELOCITY]);
+        let mut st: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(c, &mut st), fmi2OK);
+        let one = 1;
+        let two = 2;
+        let unknown = 99_999u32;
+        let bad: Vec<(&str, BadCall)> = vec![
+            ("h = 0", Box::new(|| fmi2DoStep(c, 0.5, 0.0, 0))),
+            ("h < 0", Box::new(|| fmi2DoStep(c, 0.5, -0.1, 0))),
+            ("h NaN", Box::new(|| fmi2DoStep(c, 0.5, f64::NAN, 0))),
+            ("wrong time", Box::new(|| fmi2DoStep(c, 0.7, 0.1, 0))),
+            (
+                "NaN input",
+                Box::new(|| fmi2SetReal(c, &VELOCITY, 1, &f64::NAN)),
+            ),
+            (
+                "inf input",
+                Box::new(|| fmi2SetReal(c, &VELOCITY, 1, &f64::INFINITY)),
+            ),
+            ("set output", Box::new(|| fmi2SetReal(c, &FORCE, 1, &1.0))),
+            (
+                "set calculated",
+                Box::new(|| fmi2SetReal(c, &DAMPING, 1, &1.0)),
+            ),
+            (
+                "set rho late",
+                Box::new(|| fmi2SetReal(c, &VR_RHO, 1, &1.0)),
+            ),
+            ("unknown vr", Box::new(|| fmi2SetReal(c, &unknown, 1, &1.0))),
+            (
+                "get unknown vr",
+                Box::new(|| fmi2GetReal(c, &unknown, 1, &mut 0.0)),
+            ),
+            (
+                "NULL vr",
+                Box::new(|| fmi2SetReal(c, std::ptr::null(), 1, &1.0)),
+            ),
+            (
+                "NULL value",
+                Box::new(|| fmi2GetReal(c, &FORCE, 1, std::ptr::null_mut())),
+            ),
+            (
+                "get integer",
+                Box::new(|| fmi2GetInteger(c, &VELOCITY, 1, &mut 0)),
+            ),
+            (
+                "set boolean",
+                Box::new(|| fmi2SetBoolean(c, &VELOCITY, 1, &one)),
+            ),
+            (
+                "set string",
+                Box::new(|| fmi2SetString(c, &VELOCITY, 1, &c"x".as_ptr())),
+            ),
+            (
+                "unknown category",
+                Box::new(|| fmi2SetDebugLogging(c, 1, 1, &c"100%".as_ptr())),
+            ),
+            (
+                "input derivative order 2",
+                Box::new(|| fmi2SetRealInputDerivatives(c, &VELOCITY, 1, &two, &1.0)),
+            ),
+            (
+                "input derivative of output",
+                Box::new(|| fmi2SetRealInputDerivatives(c, &FORCE, 1, &one, &1.0)),
+            ),
+            (
+                "output derivative order 2",
+                Box::new(|| fmi2GetRealOutputDerivatives(c, &FORCE, 1, &two, &mut 0.0)),
+            ),
+            (
+                "output derivative order 0",
+                Box::new(|| fmi2GetRealOutputDerivatives(c, &FORCE, 1, &0, &mut 0.0)),
+            ),
+            (
+                "derivative wrt output",
+                Box::new(|| fmi2GetDirectionalDerivative(c, &FORCE, 1, &FORCE, 1, &1.0, &mut 0.0)),
+            ),
+            (
+                "NULL state",
+                Box::new(|| fmi2SetFMUstate(c, std::ptr::null_mut())),
+            ),
+            (
+                "corrupt bytes",
+                Box::new(|| {
+                    let mut s: fmi2FMUstate = std::ptr::null_mut();
+                    let bytes = [7 as c_char; 64];
+                    fmi2DeSerializeFMUstate(c, bytes.as_ptr(), bytes.len(), &mut s)
+                }),
+            ),
+            (
+                "wrong serialize size",
+                Box::new(move || {
+                    let mut buffer = [0 as c_char; 8];
+                    fmi2SerializeFMUstate(c, st, buffer.as_mut_ptr(), buffer.len())
+                }),
+            ),
+            (
+                "status to NULL",
+                Box::new(|| fmi2GetStatus(c, fmi2DoStepStatus, std::ptr::null_mut())),
+            ),
+        ];
+        for (what, call) in &bad {
+            assert_eq!(call(), fmi2Error, "{what}");
+            assert_eq!(phase(c), Phase::Error, "{what}");
+            // In the error phase outputs stay readable and unchanged.
+            assert_eq!(get(c, &[FORCE, ENERGY, VELOCITY]), reference, "{what}");
+            assert_eq!(fmi2DoStep(c, 0.5, 0.1, 0), fmi2Error, "{what}");
+            // The saved state brings the instance back (phase included).
+            assert_eq!(fmi2SetFMUstate(c, st), fmi2OK, "{what}");
+            assert_eq!(phase(c), Phase::StepComplete, "{what}");
+        }
+        // The `%` of the category name reached the logger escaped.
+        let logged = log.lock().unwrap().clone();
+        assert!(logged.iter().any(|(_, _, m)| m.contains("'100%%'")));
+        assert!(logged
+            .iter()
+            .all(|(_, cat, _)| LOG_CATEGORIES.iter().any(|(c, _)| c == cat)));
+        // Reset after an error: usable again from the start values.
+        assert_eq!(fmi2DoStep(c, 0.5, -1.0, 0), fmi2Error);
+        assert_eq!(fmi2Reset(c), fmi2OK);
+        assert_eq!(get_phase_values(c), (Phase::Instantiated, 1025.0));
+        assert_eq!(fmi2FreeFMUstate(c, &mut st), fmi2OK);
+        assert!(st.is_null());
+        assert_eq!(fmi2FreeFMUstate(c, &mut st), fmi2OK);
+        fmi2FreeInstance(c);
+    }
+}
+
+/// One refused call.
+type BadCall<'a> = Box<dyn Fn() -> fmi2Status + 'a>;
+
+unsafe fn get_phase_values(c: fmi2Component) -> (Phase, f64) {
+    (phase(c), (*(c as *mut Instance)).model.state().rho)
+}
+
+#[test]
+fn logging_is_silent_per_step_unless_log_calls_is_on() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let c = ready(&fmu, &f);
+    unsafe {
+        for k in 0..50 {
+            assert_eq!(fmi2DoStep(c, k as f64 * 0.1, 0.1, 0), fmi2OK);
+        }
+        assert!(log.lock().unwrap().is_empty());
+        let calls = c"logCalls".as_ptr();
+        assert_eq!(fmi2SetDebugLogging(c, 1, 1, &calls), fmi2OK);
+        let before = log.lock().unwrap().len();
+        for k in 50..60 {
+            assert_eq!(fmi2DoStep(c, k as f64 * 0.1, 0.1, 0), fmi2OK);
+        }
+        let lines = log.lock().unwrap().len() - before;
+        assert!(lines >= 10, "{lines}");
+        assert_eq!(fmi2SetDebugLogging(c, 0, 0, std::ptr::null()), fmi2OK);
+        let before = log.lock().unwrap().len();
+        assert_eq!(fmi2DoStep(c, 6.0, 0.1, 0), fmi2OK);
+        assert_eq!(log.lock().unwrap().len(), before);
+        fmi2FreeInstance(c);
+    }
+    // loggingOn at instantiation turns every category on, events included.
+    let log2 = Log::default();
+    let c = instantiate(&fmu, &fmu.uri(), &callbacks(&log2), true);
+    unsafe { fmi2FreeInstance(c) };
+    assert!(log2
+        .lock()
+        .unwrap()
+        .iter()
+        .any(|(_, cat, _)| cat == "logEvents"));
+}
+
+/// Runs 200 steps with a varying input and returns every force bit pattern.
+unsafe fn run(c: fmi2Component, start: f64) -> Vec<u64> {
+    let mut out = Vec::new();
+    let h = 0.05;
+    for k in 0..200 {
+        let t = start + k as f64 * h;
+        set(c, &[VELOCITY], &[(0.7 * t).sin()]);
+        assert_eq!(fmi2DoStep(c, t, h, 0), fmi2OK);
+        out.push(get(c, &[FORCE])[0].to_bits());
+    }
+    out
+}
+
+#[test]
+fn reset_gives_a_bitwise_identical_second_run() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let c = ready(&fmu, &f);
+    unsafe {
+        let first = run(c, 0.0);
+        assert_eq!(fmi2Reset(c), fmi2OK);
+        set(c, &[VR_RHO, VR_G], &[1.0, 1.0]);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2OK);
+        assert_eq!(run(c, 0.0), first);
+        fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn serialized_state_restores_in_another_instance() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let a = ready(&fmu, &f);
+    let b = instantiate(&fmu, &fmu.uri(), &f, false);
+    unsafe {
+        run(a, 0.0);
+        let mut st: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
+        let mut size = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(a, st, &mut size), fmi2OK);
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(a, st, bytes.as_mut_ptr(), size),
+            fmi2OK
+        );
+        // Overwrite an existing snapshot in place (FMI allows reuse of *FMUstate).
+        assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
+        assert_eq!(fmi2FreeFMUstate(a, &mut st), fmi2OK);
+
+        let mut restored: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(b, bytes.as_ptr(), size, &mut restored),
+            fmi2OK
+        );
+        assert_eq!(fmi2SetFMUstate(b, restored), fmi2OK);
+        assert_eq!(phase(b), Phase::StepComplete);
+        assert_eq!(run(a, 10.0), run(b, 10.0));
+        assert_eq!(fmi2FreeFMUstate(b, &mut restored), fmi2OK);
+
+        // A state of another FMU is refused.
+        let other = Unpacked::new(TWO_DOF_NETWORK, false, "resources");
+        let o = instantiate(&other, &other.uri(), &f, false);
+        let mut foreign: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(o, bytes.as_ptr(), size, &mut foreign),
+            fmi2Error
+        );
+        assert!(foreign.is_null());
+        fmi2FreeInstance(o);
+        fmi2FreeInstance(a);
+        fmi2FreeInstance(b);
+    }
+}
+
+#[test]
+fn input_derivatives_give_first_order_hold() {
+    // A ramp via derivatives over one step equals the same ramp over ten steps.
+    let fmu = Unpacked::new(TWO_DOF_NETWORK, true, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let vr_velocity = [FIRST_PER_HULL_REFERENCE, FIRST_PER_HULL_REFERENCE + 1];
+    let force = [FIRST_PER_HULL_REFERENCE + 2, FIRST_PER_HULL_REFERENCE + 3];
+    let result = |steps: usize| unsafe {
+        let c = ready(&fmu, &f);
+        set(c, &vr_velocity, &[0.2, -0.1]);
+        let order = [1, 1];
+        let slope = [0.5, 0.3];
+        assert_eq!(
+            fmi2SetRealInputDerivatives(c, vr_velocity.as_ptr(), 2, order.as_ptr(), slope.as_ptr()),
+            fmi2OK
+        );
+        let h = 1.0 / steps as f64;
+        for k in 0..steps {
+            assert_eq!(fmi2DoStep(c, k as f64 * h, h, 0), fmi2OK);
+        }
+        let r = get(c, &force);
+        let v = get(c, &vr_velocity);
+        fmi2FreeInstance(c);
+        (r, v)
+    };
+    let (f1, v1) = result(1);
+    let (f10, v10) = result(10);
+    assert!((v1[0] - 0.7).abs() < 1e-15 && (v10[0] - 0.7).abs() < 1e-14);
+    for k in 0..2 {
+        assert!(
+            (f1[k] - f10[k]).abs() < 1e-9 * f1[k].abs().max(1.0),
+            "{f1:?} {f10:?}"
+        );
+    }
+    // The acceleration input feeds -A_inf a straight through.
+    unsafe {
+        let c = ready(&fmu, &f);
+        let acceleration = [
+            FIRST_PER_HULL_REFERENCE + 2 * 2 + 2 + 2 * 4,
+            FIRST_PER_HULL_REFERENCE + 2 * 2 + 2 + 2 * 4 + 1,
+        ];
+        set(c, &acceleration, &[1.0, 0.0]);
+        let r = get(c, &force);
+        assert_eq!(r, vec![-0.2, -0.05]);
+        let mut d = [0.0; 2];
+        let seed = [1.0];
+        assert_eq!(
+            fmi2GetDirectionalDerivative(
+                c,
+                force.as_ptr(),
+                2,
+                acceleration.as_ptr(),
+                1,
+                seed.as_ptr(),
+                d.as_mut_ptr()
+            ),
+            fmi2OK
+        );
+        assert_eq!(d, [-0.2, -0.05]);
+        fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn two_instances_in_two_threads_match_sequential_runs() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let sequential = {
+        let log = Log::default();
+        let f = callbacks(&log);
+        let c = ready(&fmu, &f);
+        let r = unsafe { run(c, 0.0) };
+        unsafe { fmi2FreeInstance(c) };
+        r
+    };
+    let results: Vec<Vec<u64>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..2)
+            .map(|_| {
+                s.spawn(|| {
+                    let log = Log::default();
+                    let f = callbacks(&log);
+                    let c = ready(&fmu, &f);
+                    let r = unsafe { run(c, 0.0) };
+                    unsafe { fmi2FreeInstance(c) };
+                    r
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert_eq!(results[0], sequential);
+    assert_eq!(results[1], sequential);
+}
