@@ -50,20 +50,9 @@ fn timed(hull: &Hull, params: &SweepParams) -> (f64, SweepResult) {
     (times[repeats / 2], last.expect("at least one run"))
 }
 
-/// Max over frequencies and entries of |dA_ij| / sqrt(|A_ii A_jj|).
+/// The product's accuracy measure against the reference.
 fn error(result: &SweepResult, reference: &SweepResult) -> f64 {
-    let mut worst: f64 = 0.0;
-    for (m, r) in result.added_mass.iter().zip(&reference.added_mass) {
-        for i in 0..m.nrows() {
-            for j in 0..m.ncols() {
-                let scale = (r[(i, i)].norm() * r[(j, j)].norm()).sqrt();
-                if scale > 1e-8 {
-                    worst = worst.max((m[(i, j)] - r[(i, j)]).norm() / scale);
-                }
-            }
-        }
-    }
-    worst
+    sweep::max_normalized_difference(&result.added_mass, &reference.added_mass).0
 }
 
 fn main() {

@@ -14,7 +14,6 @@ use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::sweep::{self, Solver, SweepParams, SweepResult};
-use nalgebra::DMatrix;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -97,31 +96,6 @@ fn interpolate(kr: &[f64], values: &[f64], x: f64) -> Option<f64> {
     }
     let t = (x.ln() - kr[k - 1].ln()) / (kr[k].ln() - kr[k - 1].ln());
     Some(values[k - 1] + t * (values[k] - values[k - 1]))
-}
-
-/// Max over the grid and all entries of |dA_ij| / sqrt(|A_ii A_jj|), skipping DOFs with no
-/// added mass (roll of a circle about its centre).
-fn normalized_error(
-    a: &[DMatrix<Complex64>],
-    reference: &[DMatrix<Complex64>],
-) -> (f64, f64, String) {
-    let mut worst = (0.0, 0.0, String::new());
-    for (k, (m, r)) in a.iter().zip(reference).enumerate() {
-        let n = m.nrows();
-        for i in 0..n {
-            for j in 0..n {
-                let scale = (r[(i, i)].norm() * r[(j, j)].norm()).sqrt();
-                if scale < 1e-8 {
-                    continue;
-                }
-                let e = (m[(i, j)] - r[(i, j)]).norm() / scale;
-                if e > worst.0 {
-                    worst = (e, k as f64, format!("({}, {})", i + 1, j + 1));
-                }
-            }
-        }
-    }
-    worst
 }
 
 fn save(figure: &mut Figure, name: &str) -> String {
@@ -546,12 +520,15 @@ fn main() {
                 3,
             );
             let time = t.elapsed().as_secs_f64();
-            let (e_plain, _, _) = normalized_error(&plain.added_mass, &reference.added_mass);
-            let (e, at, entry) = normalized_error(&extrapolated.added_mass, &reference.added_mass);
+            let (e_plain, _, _) =
+                sweep::max_normalized_difference(&plain.added_mass, &reference.added_mass);
+            let (e, at, (i, j)) =
+                sweep::max_normalized_difference(&extrapolated.added_mass, &reference.added_mass);
+            let entry = format!("({}, {})", i + 1, j + 1);
             plain_points.push((n as f64, e_plain));
             extrapolated_points.push((n as f64, e));
             if n == case_default {
-                default_errors.push((case.label, n, e, grid[at as usize], entry));
+                default_errors.push((case.label, n, e, grid[at], entry));
             }
             let _ = writeln!(
                 doc,

@@ -329,6 +329,32 @@ pub fn run(
     Ok(result)
 }
 
+/// The accuracy measure of the product: the largest `|A_ij - R_ij| / sqrt(|R_ii R_jj|)` over
+/// matching frequencies and all entries, against `reference`. Entries of DOFs with no added
+/// mass (`|R_ii| < 1e-8`, such as roll of a circle about its centre) are skipped. Returns the
+/// error, the frequency index and the (0-based) entry where it occurs.
+pub fn max_normalized_difference(
+    added_mass: &[DMatrix<Complex64>],
+    reference: &[DMatrix<Complex64>],
+) -> (f64, usize, (usize, usize)) {
+    let mut worst = (0.0, 0, (0, 0));
+    for (k, (m, r)) in added_mass.iter().zip(reference).enumerate() {
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                let scale = (r[(i, i)].norm() * r[(j, j)].norm()).sqrt();
+                if scale < 1e-8 {
+                    continue;
+                }
+                let e = (m[(i, j)] - r[(i, j)]).norm() / scale;
+                if e > worst.0 {
+                    worst = (e, k, (i, j));
+                }
+            }
+        }
+    }
+    worst
+}
+
 /// Solves every frequency on `pool`, in grid order; a failure stays with its frequency.
 fn solve_all(
     pool: &rayon::ThreadPool,
@@ -427,6 +453,32 @@ mod tests {
             let err = log_grid(min, max, count).unwrap_err();
             assert!(err.to_string().contains("kR"), "{err}");
         }
+    }
+
+    #[test]
+    fn normalized_difference_scales_by_the_diagonal_and_skips_empty_dofs() {
+        let c = |re: f64| Complex64::new(re, 0.0);
+        let reference = vec![DMatrix::from_row_slice(
+            3,
+            3,
+            &[
+                c(4.0),
+                c(1.0),
+                c(0.0),
+                c(1.0),
+                c(1.0),
+                c(0.0),
+                c(0.0),
+                c(0.0),
+                c(0.0),
+            ],
+        )];
+        let mut perturbed = reference.clone();
+        perturbed[0][(0, 1)] += c(0.02); // 0.02 / sqrt(4 * 1) = 0.01
+        perturbed[0][(2, 2)] += c(1.0); // DOF 2 has no added mass: skipped
+        let (error, k, entry) = max_normalized_difference(&perturbed, &reference);
+        assert!((error - 0.01).abs() < 1e-15);
+        assert_eq!((k, entry), (0, (0, 1)));
     }
 
     #[test]

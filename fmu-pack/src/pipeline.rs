@@ -13,9 +13,10 @@ use hydrofmu::sweep::{self, SweepParams, SweepResult};
 use hydrofmu::variables::DofUnit;
 use std::time::{Duration, Instant};
 
-/// Default fit band in kR: where ship-section radiation forces matter for multibody scenes,
-/// and where a network of few DOFs reaches 1 % (the log divergence of heave-like DOFs below
-/// kR ~ 0.05 would cost many auxiliary DOFs for little effect on a time-domain response).
+/// Default fit band in kR: where ship-section radiation forces matter for multibody scenes.
+/// Below kR ~ 0.05 the added mass of heave-like DOFs (heave, cb2, cb5) diverges
+/// logarithmically, which a finite network can follow only with many auxiliary DOFs; scenes
+/// that need it pass `--band`.
 pub const DEFAULT_BAND_KR: (f64, f64) = (0.05, 5.0);
 
 /// A frequency band, as the command line gives it.
