@@ -125,3 +125,35 @@ fn submerged_circle_with_negative_added_mass_fits_within_tolerance() {
     assert!(report.tolerance_met, "{}", report.max_relative_error);
     assert_stable(&report.network);
 }
+
+#[test]
+fn irregular_frequency_spikes_never_reach_the_fitted_data() {
+    // The pipeline fits the default sweep, which removes irregular frequencies; a fine scan
+    // across the first two (kR = 1.8182 symmetric, 3.2523 antisymmetric) stays smooth.
+    assert_eq!(
+        SweepParams::default().irregular_frequencies,
+        hydrofmu::bem::IrregularFrequencies::RemoveWithLid
+    );
+    for centre in [1.8182, 3.2523] {
+        let params = SweepParams {
+            kr: sweep::log_grid(centre - 0.01, centre + 0.01, 21).unwrap(),
+            ..SweepParams::default()
+        };
+        let result = sweep::run(
+            &Hull::semicircle(1.0).unwrap(),
+            Some(0.0),
+            &params,
+            &|_, _| {},
+        )
+        .unwrap();
+        let worst = result
+            .added_mass
+            .windows(3)
+            .flat_map(|w| {
+                (0..2).map(move |i| (w[1][(i, i)] - (w[0][(i, i)] + w[2][(i, i)]) * 0.5).norm())
+            })
+            .fold(0.0, f64::max);
+        // Smooth: second differences ~ (dkR)^2 |A''| ~ 1e-6; a spike measures 0.03 or more.
+        assert!(worst < 1e-4, "kR {centre}: second difference {worst}");
+    }
+}
