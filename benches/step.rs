@@ -1,7 +1,7 @@
 //! One co-simulation step through the C ABI for a 9-DOF-sized system: set 9 velocities,
 //! fmi2DoStep, get 9 forces (target: <= 1 us on one core).
 //!
-//! The network (stub format): 9 DOFs, one 2-stage chain per DOF with a little coupling to
+//! The network (docs/NETWORK_FORMAT.md): 9 DOFs, one 2-stage chain per DOF with a little coupling to
 //! the next DOF: 36 network states.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
