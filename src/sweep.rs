@@ -92,8 +92,9 @@ pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError
 /// doubling, see docs/VALIDATION.md). The solver solves on meshes of `N`, `N/2`, `N/4`, ...
 /// panels (`levels` of them, same clustering) and extrapolates the polynomial in `h = 1/N`
 /// through them to `h = 0` (Richardson extrapolation, Neville's scheme). Two levels remove
-/// the first-order term at 1.25 times the cost of the fine solve; three levels also the
-/// second-order one at 1.31 times.
+/// the first-order term, three levels also the second-order one; the coarser meshes add 1/4
+/// and 1/16 of the influence work of the fine one (measured wall time of the default sweep:
+/// 1.5 times the plain one, docs/PERFORMANCE.md).
 pub struct Solver {
     problems: Vec<Problem>,
 }
