@@ -1,6 +1,5 @@
 //! `fmu-pack fit`: identify the equivalent network of a hull and report it.
 
-use crate::hull_arg;
 use crate::pipeline::{self, Band, Built, FitRequest};
 use crate::sweep_cmd;
 use clap::Args;
@@ -12,17 +11,9 @@ use std::path::PathBuf;
 /// Arguments of `fmu-pack fit`.
 #[derive(Args, Debug, Clone)]
 pub struct FitArgs {
-    /// `semicircle`, `circle` or a hull file.
-    pub hull: String,
-    /// Centre depth over radius H/R of the built-in circle.
-    #[arg(long = "depth", value_name = "H_OVER_R")]
-    pub depth: Option<f64>,
-    /// Radius R of the built-in hulls, in metres.
-    #[arg(long, default_value_t = 1.0)]
-    pub radius: f64,
-    /// Comma-separated DOFs to keep (default: all).
-    #[arg(long, value_name = "a,b,..")]
-    pub dofs: Option<String>,
+    /// The hull and the sweep settings.
+    #[command(flatten)]
+    pub sweep: sweep_cmd::HullSweepArgs,
     /// Frequency band to fit: `MIN:MAX` in kR, or `MIN:MAXrad/s`.
     #[arg(long, default_value = "0.05:5", allow_hyphen_values = true)]
     pub band: String,
@@ -35,21 +26,6 @@ pub struct FitArgs {
     /// Network form: series_chain, parallel_bank (one DOF), coupled.
     #[arg(long)]
     pub form: Option<String>,
-    /// Panels on the wetted contour (default: 128, more for a submerged hull close to the
-    /// surface; see docs/DESIGN-NOTES.md).
-    #[arg(long)]
-    pub panels: Option<usize>,
-    /// Log-spaced sweep grid of kR.
-    #[arg(
-        long,
-        value_name = "MIN:MAX:COUNT",
-        default_value = "0.01:10:201",
-        allow_hyphen_values = true
-    )]
-    pub kr: String,
-    /// Worker threads of the sweep.
-    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
-    pub threads: usize,
     /// Write the network file (XML) here.
     #[arg(long, value_name = "FILE")]
     pub network_out: Option<PathBuf>,
@@ -84,14 +60,7 @@ pub fn request(
 
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
-    let (hull, depth) =
-        hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
-    let sweep_params = hydrofmu::sweep::SweepParams {
-        kr: sweep_cmd::parse_grid(&args.kr)?,
-        panels: sweep_cmd::panel_params(&hull, args.panels),
-        threads: args.threads,
-        ..Default::default()
-    };
+    let (hull, depth, sweep_params) = args.sweep.resolve()?;
     let request = request(&args.band, args.tolerance, args.order, args.form.as_deref())?;
     let built = pipeline::build_network(&hull, depth, &sweep_params, &request)?;
     if let Some(path) = &args.network_out {

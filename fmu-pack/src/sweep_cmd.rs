@@ -4,15 +4,16 @@ use crate::hull_arg;
 use crate::progress::Progress;
 use clap::Args;
 use hydrofmu::bem::IrregularFrequencies;
+use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::sweep::{self, SweepParams};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Arguments of `fmu-pack sweep`.
+/// The hull and the sweep settings, shared by `fmu-pack sweep` and `fmu-pack fit`.
 #[derive(Args, Debug, Clone)]
-pub struct SweepArgs {
+pub struct HullSweepArgs {
     /// `semicircle`, `circle` or a hull file (XML, see docs/HULL_FORMAT.md).
     pub hull: String,
     /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
@@ -46,6 +47,34 @@ pub struct SweepArgs {
     /// Worker threads.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     pub threads: usize,
+}
+
+impl HullSweepArgs {
+    /// The hull (with the H/R of built-in hulls) and the sweep parameters.
+    pub fn resolve(&self) -> Result<(Hull, Option<f64>, SweepParams), String> {
+        let (hull, depth) =
+            hull_arg::resolve(&self.hull, self.radius, self.depth, self.dofs.as_deref())?;
+        let params = SweepParams {
+            kr: parse_grid(&self.kr)?,
+            panels: panel_params(&hull, self.panels),
+            irregular_frequencies: if self.plain {
+                IrregularFrequencies::Keep
+            } else {
+                IrregularFrequencies::RemoveWithLid
+            },
+            extrapolation_levels: self.levels,
+            threads: self.threads,
+        };
+        Ok((hull, depth, params))
+    }
+}
+
+/// Arguments of `fmu-pack sweep`.
+#[derive(Args, Debug, Clone)]
+pub struct SweepArgs {
+    /// The hull and the sweep settings.
+    #[command(flatten)]
+    pub sweep: HullSweepArgs,
     /// Output CSV file (`-` for standard output).
     #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
     pub output: PathBuf,
@@ -70,7 +99,7 @@ pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
 }
 
 /// The panel parameters for `hull`: the automatic default, or the count given.
-pub fn panel_params(hull: &hydrofmu::hull::Hull, panels: Option<usize>) -> PanelParams {
+pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
     let automatic = PanelParams::for_hull(hull);
     PanelParams {
         body_panels: panels.unwrap_or(automatic.body_panels),
@@ -78,26 +107,9 @@ pub fn panel_params(hull: &hydrofmu::hull::Hull, panels: Option<usize>) -> Panel
     }
 }
 
-/// Builds the sweep parameters from the command line.
-pub fn params(args: &SweepArgs, hull: &hydrofmu::hull::Hull) -> Result<SweepParams, String> {
-    Ok(SweepParams {
-        kr: parse_grid(&args.kr)?,
-        panels: panel_params(hull, args.panels),
-        irregular_frequencies: if args.plain {
-            IrregularFrequencies::Keep
-        } else {
-            IrregularFrequencies::RemoveWithLid
-        },
-        extrapolation_levels: args.levels,
-        threads: args.threads,
-    })
-}
-
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
-    let (hull, depth) =
-        hull_arg::resolve(&args.hull, args.radius, args.depth, args.dofs.as_deref())?;
-    let params = params(args, &hull)?;
+    let (hull, depth, params) = args.sweep.resolve()?;
     let progress = Progress::new("sweep");
     let start = Instant::now();
     let result = sweep::run(&hull, depth, &params, &|done, total| {
