@@ -1024,16 +1024,8 @@ impl Model {
 pub(crate) mod tests {
     use super::*;
 
-    pub(crate) const SEED_NETWORK: &str = r#"<network format_version="1" form="series_chain" rho="1" g="1">
-  <dof name="sway"/>
-  <added_mass_inf><row>0.1153</row></added_mass_inf>
-  <branch>
-    <direction>1</direction>
-    <stage mass="0.5434" stiffness="0.2339" damping="0.9962"/>
-    <stage mass="0.1877" stiffness="0.5522" damping="0.2453"/>
-  </branch>
-</network>
-"#;
+    /// The seed paper's 2-DOF network (the shipped example file).
+    pub(crate) const SEED_NETWORK: &str = include_str!("../examples/networks/seed_2dof.xml");
 
     pub(crate) const TWO_DOF_NETWORK: &str = r#"<network format_version="1" form="coupled" rho="1" g="1">
   <dof name="sway"/>

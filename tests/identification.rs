@@ -12,6 +12,17 @@ use std::sync::OnceLock;
 const RHO: f64 = 1025.0;
 const G: f64 = 9.81;
 
+/// A sweep of the built-in semicircle (R = 1 m).
+fn semicircle_sweep(params: &SweepParams) -> sweep::SweepResult {
+    sweep::run(
+        &Hull::semicircle(1.0).unwrap(),
+        Some(0.0),
+        params,
+        &|_, _| {},
+    )
+    .unwrap()
+}
+
 fn semicircle() -> &'static FrequencyResponse {
     static DATA: OnceLock<FrequencyResponse> = OnceLock::new();
     DATA.get_or_init(|| {
@@ -19,13 +30,7 @@ fn semicircle() -> &'static FrequencyResponse {
             kr: sweep::log_grid(0.01, 4.5, 120).unwrap(),
             ..SweepParams::default()
         };
-        let result = sweep::run(
-            &Hull::semicircle(1.0).unwrap(),
-            Some(0.0),
-            &params,
-            &|_, _| {},
-        )
-        .unwrap();
+        let result = semicircle_sweep(&params);
         assert!(result.failures.is_empty());
         FrequencyResponse::from_sweep(&result, RHO, G)
     })
@@ -139,13 +144,7 @@ fn irregular_frequency_spikes_never_reach_the_fitted_data() {
             kr: sweep::log_grid(centre - 0.01, centre + 0.01, 21).unwrap(),
             ..SweepParams::default()
         };
-        let result = sweep::run(
-            &Hull::semicircle(1.0).unwrap(),
-            Some(0.0),
-            &params,
-            &|_, _| {},
-        )
-        .unwrap();
+        let result = semicircle_sweep(&params);
         let worst = result
             .added_mass
             .windows(3)
