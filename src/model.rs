@@ -226,7 +226,13 @@ pub struct RadiationSystem {
     c: DMatrix<f64>,
     d: DMatrix<f64>,
     energy_weight: DMatrix<f64>,
-    /// `[C | D]` by non-zeros: force = output_map [z; v] (without the A_inf term).
+    /// Branch input matrix `B_r` (`B = B_r P`), what the stepper discretizes.
+    b_branch: DMatrix<f64>,
+    /// `P` (branch directions as rows) by non-zeros: branch speeds `s = P v`.
+    branch_projection: LinearMap,
+    /// `C_r` by non-zeros: force along each branch `f_r = C_r z`.
+    branch_force: LinearMap,
+    /// `[P^T | D]` by non-zeros: force = output_map [f_r; v] (without the A_inf term).
     output_map: LinearMap,
 }
 
@@ -265,14 +271,21 @@ impl RadiationSystem {
         let ss = scaled
             .state_space()
             .map_err(|e| ModelError::Network(e.to_string()))?;
-        let mut cd = DMatrix::zeros(ss.c.nrows(), ss.c.ncols() + ss.d.ncols());
-        if ss.c.nrows() == ss.d.nrows() {
-            cd.view_mut((0, 0), ss.c.shape()).copy_from(&ss.c);
-            cd.view_mut((0, ss.c.ncols()), ss.d.shape())
+        let directions = &ss.branch_directions;
+        let mut spread = DMatrix::zeros(ss.d.nrows(), directions.nrows() + ss.d.ncols());
+        if directions.ncols() == ss.d.nrows() {
+            spread
+                .view_mut((0, 0), (directions.ncols(), directions.nrows()))
+                .copy_from(&directions.transpose());
+            spread
+                .view_mut((0, directions.nrows()), ss.d.shape())
                 .copy_from(&ss.d);
         }
         let system = RadiationSystem {
-            output_map: LinearMap::new(&cd),
+            output_map: LinearMap::new(&spread),
+            branch_projection: LinearMap::new(directions),
+            branch_force: LinearMap::new(&ss.c_branch),
+            b_branch: ss.b_branch,
             dof_names: scaled.dof_names.clone(),
             keep_inf_mass,
             rho,
@@ -299,9 +312,25 @@ impl RadiationSystem {
             ("D", &self.d, n, n),
             ("P", &self.energy_weight, ns, ns),
             ("A_inf", &self.added_mass_inf, n, n),
+            ("B_r", &self.b_branch, ns, self.branch_count()),
         ];
         if n == 0 {
             return Err(ModelError::Network("no DOFs".into()));
+        }
+        let r = self.branch_count();
+        let maps = [
+            ("P", &self.branch_projection, r, n),
+            ("C_r", &self.branch_force, r, ns),
+            ("[P^T | D]", &self.output_map, n, r + n),
+        ];
+        for (name, m, rows, cols) in maps {
+            if m.rows() != rows || m.cols() != cols {
+                return Err(ModelError::Network(format!(
+                    "{name} is {}x{}, expected {rows}x{cols}",
+                    m.rows(),
+                    m.cols()
+                )));
+            }
         }
         for (name, m, r, c) in shapes {
             if m.nrows() != r || m.ncols() != c {
@@ -329,6 +358,10 @@ impl RadiationSystem {
     /// Number of network states.
     pub fn state_size(&self) -> usize {
         self.a.nrows()
+    }
+    /// Number of network branches r.
+    pub fn branch_count(&self) -> usize {
+        self.branch_projection.rows()
     }
     /// Whether the force includes `-A_inf a`.
     pub fn keep_inf_mass(&self) -> bool {
@@ -415,9 +448,14 @@ impl ModelState {
 }
 
 /// Steps a [`ModelState`] exactly; holds the discretization cache and scratch memory.
+///
+/// The branches see the hull only through their speeds `s = P v`, so the stepper
+/// discretizes `z' = A z + B_r s` and one step is `z+ = [Phi | Gamma0 | Gamma1] [z; P v; P v']`
+/// with block-diagonal `Phi` (one block per branch): O(r n + states) work.
 #[derive(Clone, Debug)]
 pub struct Stepper {
     cache: DiscretizationCache,
+    projection: LinearMap,
     next: DVector<f64>,
     input: Vec<f64>,
 }
@@ -425,10 +463,12 @@ pub struct Stepper {
 impl Stepper {
     /// A stepper for this system.
     pub fn new(system: &RadiationSystem) -> Result<Stepper, ModelError> {
+        let r = system.branch_count();
         Ok(Stepper {
-            cache: DiscretizationCache::new(system.a.clone(), system.b.clone())?,
+            cache: DiscretizationCache::new(system.a.clone(), system.b_branch.clone())?,
+            projection: system.branch_projection.clone(),
             next: DVector::zeros(system.state_size()),
-            input: Vec::with_capacity(system.state_size() + 2 * system.dof_count()),
+            input: vec![0.0; system.state_size() + 2 * r],
         })
     }
 
@@ -459,14 +499,20 @@ impl Stepper {
             return Err(ModelError::Step("non-finite input".into()));
         }
         let d = self.cache.get(h)?;
-        // next = [Phi | Gamma0 | Gamma1] [z; v; v']
-        let (ns, n) = (state.network.len(), state.velocity.len());
-        self.input.resize(ns + 2 * n, 0.0);
+        // next = [Phi | Gamma0 | Gamma1] [z; P v; P v']
+        let (ns, r) = (state.network.len(), self.projection.rows());
+        self.input.resize(ns + 2 * r, 0.0);
         self.input[..ns].copy_from_slice(state.network.as_slice());
-        self.input[ns..ns + n].copy_from_slice(state.velocity.as_slice());
-        self.input[ns + n..].copy_from_slice(state.velocity_derivative.as_slice());
-        d.step_map.apply(&self.input, self.next.as_mut_slice());
+        self.projection
+            .apply(state.velocity.as_slice(), &mut self.input[ns..ns + r]);
         let ramp = state.velocity_derivative.iter().any(|x| *x != 0.0);
+        if ramp {
+            self.projection
+                .apply(state.velocity_derivative.as_slice(), &mut self.input[ns + r..]);
+        } else {
+            self.input[ns + r..].fill(0.0);
+        }
+        d.step_map.apply(&self.input, self.next.as_mut_slice());
         if self.next.iter().any(|x| !x.is_finite()) {
             return Err(ModelError::Step(
                 "the network state is not finite after the step".into(),
@@ -602,7 +648,7 @@ impl Model {
             },
             outputs_valid: false,
             work: DVector::zeros(ns),
-            output_input: Vec::with_capacity(ns + n),
+            output_input: Vec::with_capacity(system.branch_count() + n),
             system,
         };
         model.refresh();
@@ -769,10 +815,11 @@ impl Model {
         let s = &self.state;
         let sys = &self.system;
         let out = &mut self.outputs;
-        let ns = s.network.len();
-        self.output_input.resize(ns + s.velocity.len(), 0.0);
-        self.output_input[..ns].copy_from_slice(s.network.as_slice());
-        self.output_input[ns..].copy_from_slice(s.velocity.as_slice());
+        let r = sys.branch_count();
+        self.output_input.resize(r + s.velocity.len(), 0.0);
+        sys.branch_force
+            .apply(s.network.as_slice(), &mut self.output_input[..r]);
+        self.output_input[r..].copy_from_slice(s.velocity.as_slice());
         sys.output_map
             .apply(&self.output_input, out.force.as_mut_slice());
         if sys.keep_inf_mass {

@@ -277,6 +277,14 @@ pub struct StateSpace {
     pub energy_weight: DMatrix<f64>,
     /// Damper of each spring (elongation order), for the dissipation `e'^T diag(c) e'`.
     pub elongation_damping: DVector<f64>,
+    /// Branch directions as rows (r x n, r branches). A branch feels the hull only through
+    /// `d_b . v`, so `B = b_branch * branch_directions` and `C = branch_directions^T *
+    /// c_branch`: a step then costs O(r n + nonzeros of A) instead of O(2N n).
+    pub branch_directions: DMatrix<f64>,
+    /// Input matrix per branch speed `d_b . v` (2N x r).
+    pub b_branch: DMatrix<f64>,
+    /// Force along each branch direction (r x 2N).
+    pub c_branch: DMatrix<f64>,
 }
 
 impl StateSpace {
@@ -612,6 +620,30 @@ impl Network {
             energy_weight[(j, j)] = k_s[j];
             energy_weight[(na + j, na + j)] = stages[j].mass;
         }
+        // e_q = S P: the first spring of branch b has the hull row -d_b^T.
+        let r = self.branches.len();
+        let mut branch_directions = DMatrix::zeros(r, n);
+        let mut select = DMatrix::zeros(na, r);
+        let mut row = 0;
+        for (b_index, branch) in self.branches.iter().enumerate() {
+            for i in 0..n.min(branch.direction.len()) {
+                branch_directions[(b_index, i)] = branch.direction[i];
+            }
+            select[(row, b_index)] = -1.0;
+            row += branch.stages.len();
+        }
+        let mut b_branch = DMatrix::zeros(2 * na, r);
+        b_branch.view_mut((0, 0), (na, r)).copy_from(&select);
+        b_branch
+            .view_mut((na, 0), (na, r))
+            .copy_from(&(-&inv_m_diag * &ext_c * &select));
+        let mut c_branch = DMatrix::zeros(r, 2 * na);
+        c_branch
+            .view_mut((0, 0), (r, na))
+            .copy_from(&(-(select.transpose() * &k_diag)));
+        c_branch
+            .view_mut((0, na), (r, na))
+            .copy_from(&(-(select.transpose() * &c_diag) * &e_x));
         Ok(StateSpace {
             a,
             b,
@@ -619,6 +651,9 @@ impl Network {
             d,
             energy_weight,
             elongation_damping: c_s,
+            branch_directions,
+            b_branch,
+            c_branch,
         })
     }
 
@@ -1247,6 +1282,12 @@ mod tests {
                 expected += &b.direction * b.direction.transpose() * b.stages[0].damping;
             }
             assert!((dd - expected).amax() < 1e-13);
+            // The branch factorization reconstructs B and C (the stepper relies on it).
+            let b = &ss.b_branch * &ss.branch_directions;
+            let c = ss.branch_directions.transpose() * &ss.c_branch;
+            assert!((b - &ss.b).amax() < 1e-14 * ss.b.amax().max(1.0));
+            assert!((c - &ss.c).amax() < 1e-14 * ss.c.amax().max(1.0));
+            assert_eq!(ss.branch_directions.nrows(), net.branches.len());
             // Every mode decays.
             let eig = ss.a.complex_eigenvalues();
             assert!(eig.iter().all(|l| l.re < 0.0), "{eig}");
