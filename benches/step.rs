@@ -1,60 +1,25 @@
-//! One co-simulation step through the C ABI for a 9-DOF-sized system: set 9 velocities,
-//! fmi2DoStep, get 9 forces (target: <= 1 us on one core).
-//!
-//! The network (docs/NETWORK_FORMAT.md): 9 DOFs, one 2-stage chain per DOF with a little coupling to
-//! the next DOF: 36 network states.
+//! One co-simulation step of the default 9-DOF semicircle network: through the C ABI (set 9
+//! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core), and the same radiation
+//! force by direct convolution over a 6000-step history (the classic alternative).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use hydrofmu::convolution::ConvolutionForce;
 use hydrofmu::fmi2::*;
 use hydrofmu::model::Resources;
 use hydrofmu::model_description::FIRST_PER_HULL_REFERENCE;
+use hydrofmu::realize::Network;
+use nalgebra::DVector;
 use std::ffi::{c_void, CString};
 
-const DOFS: [&str; 9] = [
-    "sway", "heave", "roll", "cb1", "cb2", "cb3", "cb4", "cb5", "cb6",
-];
-
-fn network_xml() -> String {
-    let n = DOFS.len();
-    let mut s = String::from("<network format_version=\"1\" form=\"coupled\" rho=\"1\" g=\"1\">\n");
-    for d in DOFS {
-        s += &format!("  <dof name=\"{d}\"/>\n");
-    }
-    s += "  <added_mass_inf>\n";
-    for i in 0..n {
-        let row: Vec<&str> = (0..n)
-            .map(|j| if i == j { "0.3" } else { "0.01" })
-            .collect();
-        s += &format!("    <row>{}</row>\n", row.join(" "));
-    }
-    s += "  </added_mass_inf>\n";
-    for i in 0..n {
-        let attachment: Vec<String> = (0..n)
-            .map(|j| {
-                if j == i {
-                    "1".into()
-                } else if j == (i + 1) % n {
-                    "0.1".into()
-                } else {
-                    "0".into()
-                }
-            })
-            .collect();
-        s += &format!(
-            "  <branch>\n    <direction>{}</direction>\n",
-            attachment.join(" ")
-        );
-        s += "    <stage mass=\"0.5434\" stiffness=\"0.2339\" damping=\"0.9962\"/>\n";
-        s += "    <stage mass=\"0.1877\" stiffness=\"0.5522\" damping=\"0.2453\"/>\n";
-        s += "  </branch>\n";
-    }
-    s + "</network>\n"
-}
+/// The network `fmu-pack` fits for the built-in semicircle with default settings
+/// (regenerate: `cargo run --release -p fmu-pack -- fit semicircle --network-out
+/// examples/networks/semicircle_9dof.xml`).
+const NETWORK: &str = include_str!("../examples/networks/semicircle_9dof.xml");
 
 fn step(c: &mut Criterion) {
     let dir = std::env::temp_dir().join(format!("hydrofmu-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join(Resources::NETWORK_FILE), network_xml()).unwrap();
+    std::fs::write(dir.join(Resources::NETWORK_FILE), NETWORK).unwrap();
     std::fs::write(
         dir.join(Resources::OPTIONS_FILE),
         Resources::options_text(false),
@@ -69,7 +34,10 @@ fn step(c: &mut Criterion) {
         stepFinished: None,
         componentEnvironment: std::ptr::null_mut::<c_void>(),
     };
-    let n = DOFS.len() as u32;
+    let network = Network::from_xml_str(NETWORK, "semicircle_9dof.xml").unwrap();
+    let ss = network.state_space().unwrap();
+    let states = ss.state_count();
+    let n = network.dof_count() as u32;
     let velocity: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + i).collect();
     let force: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + n + i).collect();
     unsafe {
@@ -88,9 +56,10 @@ fn step(c: &mut Criterion) {
         let h = 0.01;
         let mut t = 0.0;
         let mut k = 0u64;
-        let mut v = vec![0.0; DOFS.len()];
-        let mut f = vec![0.0; DOFS.len()];
-        c.bench_function("doStep + getReal(9) + setReal(9), 9 DOFs, 36 states", |b| {
+        let mut v = vec![0.0; n as usize];
+        let mut f = vec![0.0; n as usize];
+        let name = format!("doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states");
+        c.bench_function(&name, |b| {
             b.iter(|| {
                 let phase = (k % 1000) as f64 * 1e-3;
                 for (i, x) in v.iter_mut().enumerate() {
@@ -113,6 +82,26 @@ fn step(c: &mut Criterion) {
         fmi2FreeInstance(comp);
     }
     let _ = std::fs::remove_dir_all(&dir);
+
+    // The same force by convolution over 6000 steps of history (h = 0.01 s: 60 s).
+    let mut convolution = ConvolutionForce::new(&ss, 0.01, 6000).unwrap();
+    let mut velocity = DVector::zeros(n as usize);
+    let mut force = DVector::zeros(n as usize);
+    let mut k = 0u64;
+    c.bench_function(
+        "convolution step, semicircle 9 DOFs, 6000-step history",
+        |b| {
+            b.iter(|| {
+                let phase = (k % 1000) as f64 * 1e-3;
+                for (i, x) in velocity.iter_mut().enumerate() {
+                    *x = phase + i as f64 * 0.1;
+                }
+                k += 1;
+                convolution.push(&velocity, &mut force);
+                black_box(&force);
+            })
+        },
+    );
 }
 
 criterion_group!(benches, step);

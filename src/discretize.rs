@@ -370,28 +370,245 @@ impl DiscretizationCache {
     /// last few used. It always carries `Gamma1`, so that the matrices (to the last bit) do
     /// not depend on whether the master ever used first-order hold.
     pub fn get(&mut self, step: f64) -> Result<&Discretization, DiscretizeError> {
-        let found = self
-            .entries
+        let (a, b) = (&self.a, &self.b);
+        recently_used(
+            &mut self.entries,
+            self.capacity,
+            step,
+            |d| d.step,
+            || discretize(a, b, step, true),
+        )
+    }
+}
+
+/// The entry for `step` in a most-recently-used-last list, made and inserted (dropping the
+/// least recently used beyond `capacity`) when missing.
+fn recently_used<T>(
+    entries: &mut Vec<T>,
+    capacity: usize,
+    step: f64,
+    step_of: impl Fn(&T) -> f64,
+    make: impl FnOnce() -> Result<T, DiscretizeError>,
+) -> Result<&T, DiscretizeError> {
+    match entries
+        .iter()
+        .rposition(|d| step_of(d).to_bits() == step.to_bits())
+    {
+        Some(i) => {
+            if i + 1 != entries.len() {
+                let entry = entries.remove(i);
+                entries.push(entry);
+            }
+        }
+        None => {
+            let entry = make()?;
+            if entries.len() >= capacity {
+                entries.remove(0);
+            }
+            entries.push(entry);
+        }
+    }
+    Ok(entries.last().expect("an entry was just found or inserted"))
+}
+
+/// A system of independent blocks, each driven by one scalar input: block j holds the states
+/// `states_j` and obeys `z_j' = A_j z_j + b_j u_j`. A network's branches are such blocks
+/// (input: the branch speed `d_b . v`), so a step costs the blocks' own sizes, `sum m_j^2`,
+/// and a new step size costs one small exponential per block instead of one of all states.
+#[derive(Clone, Debug)]
+pub struct BlockDiscretizationCache {
+    state_count: usize,
+    blocks: Vec<(Vec<usize>, DMatrix<f64>, DMatrix<f64>)>,
+    capacity: usize,
+    entries: Vec<BlockDiscretization>,
+}
+
+/// One step of a [`BlockDiscretizationCache`] system, stored flat for speed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockDiscretization {
+    /// Step size h.
+    pub step: f64,
+    /// Start of each block in `states`, `gamma0`, `gamma1` (one past the end last).
+    starts: Vec<usize>,
+    /// Start of each block's `Phi` (row-major m x m) in `phi`.
+    phi_starts: Vec<usize>,
+    states: Vec<usize>,
+    phi: Vec<f64>,
+    gamma0: Vec<f64>,
+    gamma1: Vec<f64>,
+}
+
+impl BlockDiscretization {
+    /// `next_j = Phi_j z_j + Gamma0_j u_j + Gamma1_j u'_j` for every block. `next` may not
+    /// alias `z`.
+    pub fn apply(&self, z: &[f64], input: &[f64], input_rate: &[f64], next: &mut [f64]) {
+        let blocks = self.starts.len() - 1;
+        assert!(input.len() == blocks && input_rate.len() == blocks && z.len() == next.len());
+        for j in 0..blocks {
+            let (start, end) = (self.starts[j], self.starts[j + 1]);
+            let block = Block {
+                states: &self.states[start..end],
+                phi: &self.phi[self.phi_starts[j]..self.phi_starts[j + 1]],
+                gamma0: &self.gamma0[start..end],
+                gamma1: &self.gamma1[start..end],
+            };
+            // Fixed sizes (chains of 1 to 4 masses) unroll; others take the general loop.
+            match end - start {
+                2 => block.apply_fixed::<2>(z, input[j], input_rate[j], next),
+                4 => block.apply_fixed::<4>(z, input[j], input_rate[j], next),
+                6 => block.apply_fixed::<6>(z, input[j], input_rate[j], next),
+                8 => block.apply_fixed::<8>(z, input[j], input_rate[j], next),
+                _ => block.apply(z, input[j], input_rate[j], next),
+            }
+        }
+    }
+}
+
+/// One block's slices of a [`BlockDiscretization`].
+struct Block<'a> {
+    states: &'a [usize],
+    phi: &'a [f64],
+    gamma0: &'a [f64],
+    gamma1: &'a [f64],
+}
+
+impl Block<'_> {
+    fn apply_fixed<const M: usize>(&self, z: &[f64], u: f64, du: f64, next: &mut [f64]) {
+        let states: &[usize] = &self.states[..M];
+        let phi: &[f64] = &self.phi[..M * M];
+        let (g0, g1) = (&self.gamma0[..M], &self.gamma1[..M]);
+        let mut local = [0.0f64; M];
+        for (l, &i) in local.iter_mut().zip(states) {
+            *l = z[i];
+        }
+        for row in 0..M {
+            let mut sum = g0[row] * u + g1[row] * du;
+            for (p, x) in phi[row * M..row * M + M].iter().zip(&local) {
+                sum += p * x;
+            }
+            next[states[row]] = sum;
+        }
+    }
+
+    fn apply(&self, z: &[f64], u: f64, du: f64, next: &mut [f64]) {
+        let m = self.states.len();
+        for (row, &i) in self.states.iter().enumerate() {
+            let phi_row = &self.phi[row * m..(row + 1) * m];
+            let sum: f64 = phi_row
+                .iter()
+                .zip(self.states)
+                .map(|(p, &k)| p * z[k])
+                .sum();
+            next[i] = sum + self.gamma0[row] * u + self.gamma1[row] * du;
+        }
+    }
+}
+
+impl BlockDiscretizationCache {
+    /// The blocks of `z' = A z + B u` (B: one column per block). Refused unless the blocks
+    /// partition the states, `A` couples no two blocks and column j of `B` is zero outside
+    /// block j.
+    pub fn new(
+        a: &DMatrix<f64>,
+        b: &DMatrix<f64>,
+        blocks: &[Vec<usize>],
+    ) -> Result<Self, DiscretizeError> {
+        let ns = a.nrows();
+        if a.ncols() != ns || b.nrows() != ns || b.ncols() != blocks.len() {
+            return Err(DiscretizeError::Dimensions(format!(
+                "A is {}x{}, B is {}x{}, {} blocks",
+                a.nrows(),
+                a.ncols(),
+                b.nrows(),
+                b.ncols(),
+                blocks.len()
+            )));
+        }
+        let mut owner = vec![usize::MAX; ns];
+        for (j, states) in blocks.iter().enumerate() {
+            for &i in states {
+                if i >= ns || owner[i] != usize::MAX {
+                    return Err(DiscretizeError::Dimensions(format!(
+                        "block {j}: state {i} is out of range or in two blocks"
+                    )));
+                }
+                owner[i] = j;
+            }
+        }
+        if owner.contains(&usize::MAX) {
+            return Err(DiscretizeError::Dimensions(
+                "the blocks do not cover every state".into(),
+            ));
+        }
+        for i in 0..ns {
+            let coupled = (0..ns).any(|k| owner[k] != owner[i] && a[(i, k)] != 0.0);
+            let driven = (0..blocks.len()).any(|j| owner[i] != j && b[(i, j)] != 0.0);
+            if coupled || driven {
+                return Err(DiscretizeError::Dimensions(format!(
+                    "state {i} is coupled to another block"
+                )));
+            }
+        }
+        let blocks = blocks
             .iter()
-            .rposition(|d| d.step.to_bits() == step.to_bits());
-        let index = match found {
-            Some(i) => {
-                if i + 1 != self.entries.len() {
-                    let entry = self.entries.remove(i);
-                    self.entries.push(entry);
+            .enumerate()
+            .map(|(j, states)| {
+                let m = states.len();
+                let a_j = DMatrix::from_fn(m, m, |r, c| a[(states[r], states[c])]);
+                let b_j = DMatrix::from_fn(m, 1, |r, _| b[(states[r], j)]);
+                (states.clone(), a_j, b_j)
+            })
+            .collect();
+        Ok(BlockDiscretizationCache {
+            state_count: ns,
+            blocks,
+            capacity: DiscretizationCache::DEFAULT_CAPACITY,
+            entries: Vec::with_capacity(DiscretizationCache::DEFAULT_CAPACITY),
+        })
+    }
+
+    /// Number of states.
+    pub fn state_count(&self) -> usize {
+        self.state_count
+    }
+
+    /// Number of blocks (inputs).
+    pub fn block_count(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// The discretization for step h (exact, first-order hold included), cached per step
+    /// size like [`DiscretizationCache::get`].
+    pub fn get(&mut self, step: f64) -> Result<&BlockDiscretization, DiscretizeError> {
+        let blocks = &self.blocks;
+        recently_used(
+            &mut self.entries,
+            self.capacity,
+            step,
+            |d| d.step,
+            || {
+                let mut d = BlockDiscretization {
+                    step,
+                    starts: vec![0],
+                    phi_starts: vec![0],
+                    states: Vec::new(),
+                    phi: Vec::new(),
+                    gamma0: Vec::new(),
+                    gamma1: Vec::new(),
+                };
+                for (states, a, b) in blocks {
+                    let one = discretize(a, b, step, true)?;
+                    d.states.extend_from_slice(states);
+                    d.phi.extend(one.phi.transpose().iter());
+                    d.gamma0.extend(one.gamma0.iter());
+                    d.gamma1
+                        .extend(one.gamma1.as_ref().expect("first-order hold").iter());
+                    d.starts.push(d.states.len());
+                    d.phi_starts.push(d.phi.len());
                 }
-                self.entries.len() - 1
-            }
-            None => {
-                let d = discretize(&self.a, &self.b, step, true)?;
-                if self.entries.len() >= self.capacity {
-                    self.entries.remove(0);
-                }
-                self.entries.push(d);
-                self.entries.len() - 1
-            }
-        };
-        Ok(&self.entries[index])
+                Ok(d)
+            },
+        )
     }
 }
 
@@ -614,5 +831,47 @@ mod tests {
         }
         assert_eq!(cache.len(), DiscretizationCache::DEFAULT_CAPACITY);
         assert!(cache.get(-1.0).is_err());
+    }
+
+    #[test]
+    fn blocks_reproduce_the_whole_system_and_coupling_is_refused() {
+        // Two copies of the seed chain, interleaved, each driven by its own input: the block
+        // step must equal the full system's step (same exact discretization, to rounding).
+        let (a1, b1) = seed_system();
+        let order = [0usize, 5, 2, 7, 1, 3, 6, 4];
+        let (block0, block1): (Vec<usize>, Vec<usize>) = (order[..4].to_vec(), order[4..].to_vec());
+        let mut a = DMatrix::zeros(8, 8);
+        let mut b = DMatrix::zeros(8, 2);
+        for (j, states) in [&block0, &block1].iter().enumerate() {
+            let scale = 1.0 + j as f64;
+            for r in 0..4 {
+                b[(states[r], j)] = b1[(r, 0)] * scale;
+                for c in 0..4 {
+                    a[(states[r], states[c])] = a1[(r, c)] * scale;
+                }
+            }
+        }
+        let mut blocks = BlockDiscretizationCache::new(&a, &b, &[block0, block1]).unwrap();
+        let full = discretize(&a, &b, 0.37, true).unwrap();
+        let z = DVector::from_fn(8, |i, _| (i as f64 * 0.7).sin());
+        let (u, du) = ([0.3, -1.2], [2.0, 0.5]);
+        let mut next = vec![0.0; 8];
+        blocks
+            .get(0.37)
+            .unwrap()
+            .apply(z.as_slice(), &u, &du, &mut next);
+        let expected = &full.phi * &z
+            + &full.gamma0 * DVector::from_row_slice(&u)
+            + full.gamma1.as_ref().unwrap() * DVector::from_row_slice(&du);
+        for i in 0..8 {
+            assert!((next[i] - expected[i]).abs() < 1e-14, "{i}");
+        }
+        // A coupling between the blocks, or a block missing a state, is refused.
+        let mut coupled = a.clone();
+        coupled[(0, 1)] = 1e-3;
+        let halves = [vec![0, 5, 2, 7], vec![1, 3, 6, 4]];
+        assert!(BlockDiscretizationCache::new(&coupled, &b, &halves).is_err());
+        assert!(BlockDiscretizationCache::new(&a, &b, &[vec![0, 5, 2, 7], vec![1, 3, 6]]).is_err());
+        assert!(blocks.get(0.0).is_err());
     }
 }

@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod bem;
+pub mod convolution;
 pub mod discretize;
 pub mod fmi2;
 pub mod green;

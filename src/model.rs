@@ -33,12 +33,13 @@
 //! tag byte, the GUID, the dimensions, rho, g, the time bookkeeping, z, the inputs and their
 //! derivatives, then an FNV-1a 64 checksum of everything before it.
 
-use crate::discretize::{DiscretizationCache, DiscretizeError, LinearMap};
+use crate::discretize::{BlockDiscretizationCache, DiscretizeError, LinearMap};
 use crate::model_description::{DEFAULT_G, DEFAULT_RHO, PARAMETERS};
 use crate::realize::Network;
 use crate::variables::{content_guid, Quantity};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
+use std::ops::Not;
 use std::path::{Path, PathBuf};
 
 /// Relative tolerance on the communication point (times max(|t|, h)).
@@ -228,12 +229,13 @@ pub struct RadiationSystem {
     energy_weight: DMatrix<f64>,
     /// Branch input matrix `B_r` (`B = B_r P`), what the stepper discretizes.
     b_branch: DMatrix<f64>,
-    /// `P` (branch directions as rows) by non-zeros: branch speeds `s = P v`.
-    branch_projection: LinearMap,
-    /// `C_r` by non-zeros: force along each branch `f_r = C_r z`.
+    /// The states of each branch (independent blocks of `A`).
+    branch_states: Vec<Vec<usize>>,
+    /// `P` (branch directions as rows, r x n): branch speeds `s = P v`.
+    branch_projection: DMatrix<f64>,
+    /// `C_r` by non-zeros: force along each branch `f_r = C_r z`, so that
+    /// `F = P^T f_r + D v` (without the A_inf term).
     branch_force: LinearMap,
-    /// `[P^T | D]` by non-zeros: force = output_map [f_r; v] (without the A_inf term).
-    output_map: LinearMap,
 }
 
 fn check_parameter(name: &'static str, value: f64) -> Result<(), ModelError> {
@@ -271,21 +273,11 @@ impl RadiationSystem {
         let ss = scaled
             .state_space()
             .map_err(|e| ModelError::Network(e.to_string()))?;
-        let directions = &ss.branch_directions;
-        let mut spread = DMatrix::zeros(ss.d.nrows(), directions.nrows() + ss.d.ncols());
-        if directions.ncols() == ss.d.nrows() {
-            spread
-                .view_mut((0, 0), (directions.ncols(), directions.nrows()))
-                .copy_from(&directions.transpose());
-            spread
-                .view_mut((0, directions.nrows()), ss.d.shape())
-                .copy_from(&ss.d);
-        }
         let system = RadiationSystem {
-            output_map: LinearMap::new(&spread),
-            branch_projection: LinearMap::new(directions),
+            branch_projection: ss.branch_directions.clone(),
             branch_force: LinearMap::new(&ss.c_branch),
             b_branch: ss.b_branch,
+            branch_states: ss.branch_states,
             dof_names: scaled.dof_names.clone(),
             keep_inf_mass,
             rho,
@@ -318,19 +310,13 @@ impl RadiationSystem {
             return Err(ModelError::Network("no DOFs".into()));
         }
         let r = self.branch_count();
-        let maps = [
-            ("P", &self.branch_projection, r, n),
-            ("C_r", &self.branch_force, r, ns),
-            ("[P^T | D]", &self.output_map, n, r + n),
-        ];
-        for (name, m, rows, cols) in maps {
-            if m.rows() != rows || m.cols() != cols {
-                return Err(ModelError::Network(format!(
-                    "{name} is {}x{}, expected {rows}x{cols}",
-                    m.rows(),
-                    m.cols()
-                )));
-            }
+        if self.branch_projection.ncols() != n
+            || self.branch_force.rows() != r
+            || self.branch_force.cols() != ns
+        {
+            return Err(ModelError::Network(format!(
+                "the branch maps do not fit {n} DOFs, {r} branches and {ns} states"
+            )));
         }
         for (name, m, r, c) in shapes {
             if m.nrows() != r || m.ncols() != c {
@@ -361,7 +347,7 @@ impl RadiationSystem {
     }
     /// Number of network branches r.
     pub fn branch_count(&self) -> usize {
-        self.branch_projection.rows()
+        self.branch_projection.nrows()
     }
     /// Whether the force includes `-A_inf a`.
     pub fn keep_inf_mass(&self) -> bool {
@@ -447,6 +433,16 @@ impl ModelState {
     }
 }
 
+/// True when no entry is NaN or infinite (all exponent bits set). One pass of integer
+/// operations without an early exit, so it vectorizes.
+fn all_finite(values: &[f64]) -> bool {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    values
+        .iter()
+        .fold(false, |bad, x| bad | (x.to_bits() & EXPONENT == EXPONENT))
+        .not()
+}
+
 /// Steps a [`ModelState`] exactly; holds the discretization cache and scratch memory.
 ///
 /// The branches see the hull only through their speeds `s = P v`, so the stepper
@@ -454,10 +450,11 @@ impl ModelState {
 /// with block-diagonal `Phi` (one block per branch): O(r n + states) work.
 #[derive(Clone, Debug)]
 pub struct Stepper {
-    cache: DiscretizationCache,
-    projection: LinearMap,
+    cache: BlockDiscretizationCache,
+    projection: DMatrix<f64>,
     next: DVector<f64>,
-    input: Vec<f64>,
+    speed: DVector<f64>,
+    rate: DVector<f64>,
 }
 
 impl Stepper {
@@ -465,10 +462,15 @@ impl Stepper {
     pub fn new(system: &RadiationSystem) -> Result<Stepper, ModelError> {
         let r = system.branch_count();
         Ok(Stepper {
-            cache: DiscretizationCache::new(system.a.clone(), system.b_branch.clone())?,
+            cache: BlockDiscretizationCache::new(
+                &system.a,
+                &system.b_branch,
+                &system.branch_states,
+            )?,
             projection: system.branch_projection.clone(),
             next: DVector::zeros(system.state_size()),
-            input: vec![0.0; system.state_size() + 2 * r],
+            speed: DVector::zeros(r),
+            rate: DVector::zeros(r),
         })
     }
 
@@ -495,30 +497,39 @@ impl Stepper {
             &state.acceleration,
             &state.acceleration_derivative,
         ];
-        if inputs.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+        if inputs.iter().any(|v| !all_finite(v.as_slice())) {
             return Err(ModelError::Step("non-finite input".into()));
         }
         let d = self.cache.get(h)?;
-        // next = [Phi | Gamma0 | Gamma1] [z; P v; P v']
-        let (ns, r) = (state.network.len(), self.projection.rows());
-        self.input.resize(ns + 2 * r, 0.0);
-        self.input[..ns].copy_from_slice(state.network.as_slice());
-        self.projection
-            .apply(state.velocity.as_slice(), &mut self.input[ns..ns + r]);
-        let ramp = state.velocity_derivative.iter().any(|x| *x != 0.0);
+        // Per branch b: next_b = Phi_b z_b + Gamma0_b (d_b . v) + Gamma1_b (d_b . v').
+        self.speed.gemv(1.0, &self.projection, &state.velocity, 0.0);
+        let ramp = state
+            .velocity_derivative
+            .as_slice()
+            .iter()
+            .any(|x| *x != 0.0);
         if ramp {
-            self.projection
-                .apply(state.velocity_derivative.as_slice(), &mut self.input[ns + r..]);
+            self.rate
+                .gemv(1.0, &self.projection, &state.velocity_derivative, 0.0);
         } else {
-            self.input[ns + r..].fill(0.0);
+            self.rate.fill(0.0);
         }
-        d.step_map.apply(&self.input, self.next.as_mut_slice());
-        if self.next.iter().any(|x| !x.is_finite()) {
+        d.apply(
+            state.network.as_slice(),
+            self.speed.as_slice(),
+            self.rate.as_slice(),
+            self.next.as_mut_slice(),
+        );
+        if !all_finite(self.next.as_slice()) {
             return Err(ModelError::Step(
                 "the network state is not finite after the step".into(),
             ));
         }
-        let acceleration_ramp = state.acceleration_derivative.iter().any(|x| *x != 0.0);
+        let acceleration_ramp = state
+            .acceleration_derivative
+            .as_slice()
+            .iter()
+            .any(|x| *x != 0.0);
         let ramp_ok = |x: &DVector<f64>, dx: &DVector<f64>| {
             x.iter()
                 .zip(dx.iter())
@@ -572,7 +583,7 @@ pub struct Model {
     outputs: Outputs,
     outputs_valid: bool,
     work: DVector<f64>,
-    output_input: Vec<f64>,
+    branch_forces: DVector<f64>,
 }
 
 const MAGIC: &[u8; 8] = b"HYDROFMU";
@@ -648,7 +659,7 @@ impl Model {
             },
             outputs_valid: false,
             work: DVector::zeros(ns),
-            output_input: Vec::with_capacity(system.branch_count() + n),
+            branch_forces: DVector::zeros(system.branch_count()),
             system,
         };
         model.refresh();
@@ -815,13 +826,11 @@ impl Model {
         let s = &self.state;
         let sys = &self.system;
         let out = &mut self.outputs;
-        let r = sys.branch_count();
-        self.output_input.resize(r + s.velocity.len(), 0.0);
         sys.branch_force
-            .apply(s.network.as_slice(), &mut self.output_input[..r]);
-        self.output_input[r..].copy_from_slice(s.velocity.as_slice());
-        sys.output_map
-            .apply(&self.output_input, out.force.as_mut_slice());
+            .apply(s.network.as_slice(), self.branch_forces.as_mut_slice());
+        out.force.gemv(1.0, &sys.d, &s.velocity, 0.0);
+        out.force
+            .gemv_tr(1.0, &sys.branch_projection, &self.branch_forces, 1.0);
         if sys.keep_inf_mass {
             out.force
                 .gemv(-1.0, &sys.added_mass_inf, &s.acceleration, 1.0);

@@ -285,6 +285,9 @@ pub struct StateSpace {
     pub b_branch: DMatrix<f64>,
     /// Force along each branch direction (r x 2N).
     pub c_branch: DMatrix<f64>,
+    /// The states of each branch (its elongations, then its aux velocities). `A` couples no
+    /// two branches, and column (row) b of `b_branch` (`c_branch`) is zero outside branch b.
+    pub branch_states: Vec<Vec<usize>>,
 }
 
 impl StateSpace {
@@ -624,12 +627,15 @@ impl Network {
         let r = self.branches.len();
         let mut branch_directions = DMatrix::zeros(r, n);
         let mut select = DMatrix::zeros(na, r);
+        let mut branch_states = Vec::with_capacity(r);
         let mut row = 0;
         for (b_index, branch) in self.branches.iter().enumerate() {
             for i in 0..n.min(branch.direction.len()) {
                 branch_directions[(b_index, i)] = branch.direction[i];
             }
             select[(row, b_index)] = -1.0;
+            let stages = row..row + branch.stages.len();
+            branch_states.push(stages.clone().chain(stages.map(|j| na + j)).collect());
             row += branch.stages.len();
         }
         let mut b_branch = DMatrix::zeros(2 * na, r);
@@ -654,6 +660,7 @@ impl Network {
             branch_directions,
             b_branch,
             c_branch,
+            branch_states,
         })
     }
 
@@ -1288,6 +1295,27 @@ mod tests {
             assert!((b - &ss.b).amax() < 1e-14 * ss.b.amax().max(1.0));
             assert!((c - &ss.c).amax() < 1e-14 * ss.c.amax().max(1.0));
             assert_eq!(ss.branch_directions.nrows(), net.branches.len());
+            // The branch blocks: A, B_r and C_r have nothing outside them.
+            let mut owner = vec![usize::MAX; ss.state_count()];
+            for (b, states) in ss.branch_states.iter().enumerate() {
+                for &i in states {
+                    assert_eq!(owner[i], usize::MAX, "state {i} in two branches");
+                    owner[i] = b;
+                }
+            }
+            for i in 0..ss.state_count() {
+                for j in 0..ss.state_count() {
+                    if owner[i] != owner[j] {
+                        assert_eq!(ss.a[(i, j)], 0.0);
+                    }
+                }
+                for b in 0..net.branches.len() {
+                    if owner[i] != b {
+                        assert_eq!(ss.b_branch[(i, b)], 0.0);
+                        assert_eq!(ss.c_branch[(b, i)], 0.0);
+                    }
+                }
+            }
             // Every mode decays.
             let eig = ss.a.complex_eigenvalues();
             assert!(eig.iter().all(|l| l.re < 0.0), "{eig}");
