@@ -23,6 +23,10 @@ pub struct FitArgs {
     /// Fixed order (auxiliary DOFs per chain, or poles of the coupled network).
     #[arg(long)]
     pub order: Option<usize>,
+    /// Largest communication step the master will use, in s: the band is cut at its
+    /// Nyquist frequency pi / max-step.
+    #[arg(long, value_name = "SECONDS")]
+    pub max_step: Option<f64>,
     /// Network form: series_chain, parallel_bank (one DOF), coupled.
     #[arg(long)]
     pub form: Option<String>,
@@ -49,19 +53,27 @@ pub fn request(
     tolerance: Option<f64>,
     order: Option<usize>,
     form: Option<&str>,
+    max_step: Option<f64>,
 ) -> Result<FitRequest, String> {
     Ok(FitRequest {
         band: Band::parse(band)?,
         tolerance,
         order,
         form: form.map(parse_form).transpose()?,
+        max_step,
     })
 }
 
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
     let (hull, depth, sweep_params) = args.sweep.resolve()?;
-    let request = request(&args.band, args.tolerance, args.order, args.form.as_deref())?;
+    let request = request(
+        &args.band,
+        args.tolerance,
+        args.order,
+        args.form.as_deref(),
+        args.max_step,
+    )?;
     let built = pipeline::build_network(&hull, depth, &sweep_params, &request)?;
     if let Some(path) = &args.network_out {
         built
@@ -104,6 +116,13 @@ pub fn text(built: &Built) -> String {
         fit.tolerance,
         if fit.tolerance_met { "met" } else { "NOT met" }
     );
+    if let Some(nyquist) = built.nyquist_cut {
+        let _ = writeln!(
+            out,
+            "band cut at the Nyquist frequency {nyquist:.4} rad/s of --max-step {:.4} s",
+            std::f64::consts::PI / nyquist
+        );
+    }
     let _ = writeln!(
         out,
         "largest relative error {:.4}; sweep {:.3} s, fit {:.3} s ({} iterations)",

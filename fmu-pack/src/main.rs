@@ -13,6 +13,7 @@ mod hull_arg;
 mod pack;
 mod pipeline;
 mod progress;
+mod scene;
 mod sweep_cmd;
 
 use clap::{Parser, Subcommand};
@@ -64,6 +65,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 band: None,
                 tol: None,
                 order: None,
+                max_step: None,
                 network: None,
                 keep_inf_mass: false,
                 output: PathBuf::from("Semicircle.fmu"),

@@ -15,7 +15,8 @@
 //! hulls (or two networks, or two flag sets) never share one, and the FMU checks it at
 //! instantiation.
 
-use crate::pipeline::{self, HullInfo, NetworkOptions};
+use crate::pipeline::{self, Built, HullInfo, NetworkOptions};
+use crate::scene::SceneReport;
 use hydrofmu::model::{Model, Resources};
 use hydrofmu::model_description::FIXED_XML;
 use hydrofmu::variables::{DescriptionInfo, Layout};
@@ -67,6 +68,10 @@ pub struct PackArgs {
     /// Network order.
     #[arg(long)]
     pub order: Option<usize>,
+    /// Largest communication step the master will use, in s: the band is cut at its
+    /// Nyquist frequency pi / max-step.
+    #[arg(long, value_name = "SECONDS")]
+    pub max_step: Option<f64>,
     /// Use this network file instead of computing one.
     #[arg(long)]
     pub network: Option<PathBuf>,
@@ -109,6 +114,16 @@ pub struct PackSummary {
     pub keep_inf_mass: bool,
     /// Fit summary, when the network was computed.
     pub fit: Option<String>,
+    /// What the scene's FMU leaves out, when the network was computed.
+    pub scene: Option<String>,
+}
+
+/// A network computed for the archive: the pipeline's products and the scene report.
+pub struct Fitted {
+    /// Sweep and fit.
+    pub built: Built,
+    /// What was left out and the error it causes.
+    pub scene: SceneReport,
 }
 
 impl fmt::Display for PackSummary {
@@ -130,6 +145,12 @@ impl fmt::Display for PackSummary {
         if let Some(fit) = &self.fit {
             write!(f, "\n  fit              {fit}")?;
         }
+        if let Some(scene) = &self.scene {
+            write!(f, "\n  scene")?;
+            for line in scene.lines() {
+                write!(f, "\n    {line}")?;
+            }
+        }
         Ok(())
     }
 }
@@ -139,17 +160,36 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     let hull = pipeline::load_hull(&args.hull, args.depth, args.dofs.as_deref())?;
     let mut report = None;
     let network_xml = match &args.network {
-        Some(path) => std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?,
+        Some(path) => {
+            if args.band.is_some() || args.tol.is_some() || args.order.is_some() {
+                return Err(PackError(
+                    "--band, --tol and --order shape a computed network; they cannot apply to \
+                     --network FILE"
+                        .into(),
+                ));
+            }
+            std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?
+        }
         None => {
             let options = NetworkOptions {
                 depth: args.depth,
                 band: args.band.clone(),
                 tol: args.tol,
                 order: args.order,
+                max_step: args.max_step,
             };
             let (xml, built) = pipeline::build_network_xml(&hull, &options)?;
-            report = Some(built);
+            // The whole hull's data, to state what leaving DOFs out costs.
+            let full = match &args.dofs {
+                Some(_) => {
+                    let all = pipeline::load_hull(&args.hull, args.depth, None)?;
+                    Some(pipeline::sweep_response(&all)?)
+                }
+                None => None,
+            };
+            let scene = SceneReport::new(&built, full.as_ref());
+            report = Some(Fitted { built, scene });
             xml
         }
     };
@@ -168,6 +208,9 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         report.as_ref(),
     )
 }
+
+/// The scene report inside the archive (plain text; `fmu-pack inspect` prints it).
+pub const SCENE_FILE: &str = "documentation/scene.txt";
 
 /// A modelIdentifier from a file name: letters, digits and `_`, starting with a letter.
 pub fn identifier_from_path(path: &Path) -> String {
@@ -193,7 +236,7 @@ pub fn pack_network(
     binary: &Path,
     model_identifier: &str,
     output: &Path,
-    fit: Option<&pipeline::Built>,
+    fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
     let resources = Resources::new(
         network_xml.to_string(),
@@ -240,11 +283,16 @@ pub fn pack_network(
         .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
     let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
     let mut plot_entries = Vec::new();
-    if let Some(built) = fit {
+    let mut scene_entry = None;
+    if let Some(Fitted { built, scene }) = fit {
+        let scene_text = scene.to_string();
         let mut section = format!(
-            "<h2>Fit report</h2>\n<pre>{}</pre>\n",
+            "<h2>Scene: what this FMU models and leaves out</h2>\n<pre>{}</pre>\n\
+             <h2>Fit report</h2>\n<pre>{}</pre>\n",
+            escape(&scene_text),
             escape(&crate::fit_cmd::text(built))
         );
+        scene_entry = Some(scene_text);
         for (name, svg) in crate::fit_cmd::plots(built) {
             section += &format!("<p><img src=\"plots/{name}\" alt=\"{name}\"></p>\n");
             plot_entries.push((format!("documentation/plots/{name}"), svg.into_bytes()));
@@ -278,6 +326,9 @@ pub fn pack_network(
         documentation.into_bytes(),
     ));
     entries.extend(plot_entries);
+    if let Some(text) = &scene_entry {
+        entries.push((SCENE_FILE.into(), format!("{text}\n").into_bytes()));
+    }
     write_zip(output, &entries)?;
     Ok(PackSummary {
         path: output.to_path_buf(),
@@ -286,7 +337,8 @@ pub fn pack_network(
         dofs: model.dof_names().to_vec(),
         states: system.state_size(),
         keep_inf_mass,
-        fit: fit.map(|b| {
+        scene: scene_entry,
+        fit: fit.map(|Fitted { built: b, .. }| {
             format!(
                 "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
                 b.fit.aux_dofs,
@@ -517,6 +569,8 @@ pub struct Inspection {
     pub keep_inf_mass: bool,
     /// Archive entries.
     pub entries: Vec<String>,
+    /// The scene report, when the network was computed by fmu-pack.
+    pub scene: Option<String>,
 }
 
 impl fmt::Display for Inspection {
@@ -548,6 +602,18 @@ impl fmt::Display for Inspection {
                 "outside"
             }
         )?;
+        match &self.scene {
+            Some(scene) => {
+                writeln!(f, "scene")?;
+                for line in scene.lines() {
+                    writeln!(f, "  {line}")?;
+                }
+            }
+            None => writeln!(
+                f,
+                "scene             not recorded (network given as a file)"
+            )?,
+        }
         writeln!(f, "entries")?;
         for e in &self.entries {
             writeln!(f, "  {e}")?;
@@ -593,6 +659,7 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
     )?
     .ok_or_else(|| missing(Resources::OPTIONS_FILE))?;
     let hull = read_entry(&mut archive, &format!("resources/{}", Resources::HULL_FILE))?;
+    let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options).map_err(|e| e.to_string())?;
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
@@ -606,6 +673,7 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
         states: model.system().state_size(),
         keep_inf_mass: resources.keep_inf_mass,
         entries,
+        scene,
     };
     let mut reader = quick_xml::Reader::from_str(&description);
     let mut current_name = String::new();

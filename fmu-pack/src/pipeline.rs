@@ -76,6 +76,9 @@ pub struct FitRequest {
     pub order: Option<usize>,
     /// Network form; `None`: series chain for one DOF, coupled network for several.
     pub form: Option<NetworkForm>,
+    /// The largest communication step the master will use (s). The band is cut at its
+    /// Nyquist frequency `pi / max_step`: the master's signals cannot carry faster motion.
+    pub max_step: Option<f64>,
 }
 
 impl Default for FitRequest {
@@ -85,7 +88,33 @@ impl Default for FitRequest {
             tolerance: None,
             order: None,
             form: None,
+            max_step: None,
         }
+    }
+}
+
+impl FitRequest {
+    /// The band to fit in rad/s for a hull of half-beam `radius`, after the `max_step` cut,
+    /// and the Nyquist frequency when it cut the band.
+    pub fn effective_band(&self, radius: f64) -> Result<((f64, f64), Option<f64>), String> {
+        let (lo, hi) = self.band.rad_per_second(radius, DEFAULT_G);
+        let Some(h) = self.max_step else {
+            return Ok(((lo, hi), None));
+        };
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("--max-step {h}: the step must be finite and > 0 s"));
+        }
+        let nyquist = std::f64::consts::PI / h;
+        if nyquist >= hi {
+            return Ok(((lo, hi), None));
+        }
+        if nyquist <= lo * 1.5 {
+            return Err(format!(
+                "--max-step {h} s: its Nyquist frequency pi/h = {nyquist:.4} rad/s leaves nothing \
+                 of the band {lo:.4} .. {hi:.4} rad/s; use a smaller step or a lower band"
+            ));
+        }
+        Ok(((lo, nyquist), Some(nyquist)))
     }
 }
 
@@ -101,6 +130,11 @@ pub struct Built {
     pub sweep_time: Duration,
     /// Wall time of the fit.
     pub fit_time: Duration,
+    /// The band asked for, after the `--max-step` cut (rad/s). The fit uses the sweep's
+    /// frequencies inside it.
+    pub band: (f64, f64),
+    /// The Nyquist frequency of `--max-step` when it cut the band (rad/s).
+    pub nyquist_cut: Option<f64>,
 }
 
 /// Runs the sweep of `hull` and fits the network the request asks for.
@@ -116,7 +150,8 @@ pub fn build_network(
         }
     }
     let radius = hull.reference_half_beam();
-    let (kr_min, kr_max) = request.band.wavenumber(radius, DEFAULT_G);
+    let (band, nyquist_cut) = request.effective_band(radius)?;
+    let (kr_min, kr_max) = Band::RadPerSecond(band.0, band.1).wavenumber(radius, DEFAULT_G);
     let grid = &sweep_params.kr;
     if grid
         .iter()
@@ -141,7 +176,7 @@ pub fn build_network(
     });
     let params = FitParams {
         form,
-        band: request.band.rad_per_second(radius, DEFAULT_G),
+        band,
         tolerance: request.tolerance,
         order: request.order,
         ..FitParams::default()
@@ -155,6 +190,8 @@ pub fn build_network(
         fit,
         sweep_time,
         fit_time,
+        band,
+        nyquist_cut,
     })
 }
 
@@ -184,6 +221,8 @@ pub struct NetworkOptions {
     pub tol: Option<f64>,
     /// Network order.
     pub order: Option<usize>,
+    /// Largest communication step of the master (s).
+    pub max_step: Option<f64>,
 }
 
 /// Unit information of a hull DOF (see docs/DESIGN-NOTES.md, "Units of generalized DOFs").
@@ -226,6 +265,32 @@ pub fn load_hull(
     })
 }
 
+/// The sweep settings `pack` uses for a hull.
+fn pack_sweep_params(hull: &Hull) -> SweepParams {
+    SweepParams {
+        panels: hydrofmu::panels::PanelParams::for_hull(hull),
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        ..SweepParams::default()
+    }
+}
+
+/// The frequency response of all of a hull's DOFs with `pack`'s sweep settings.
+pub fn sweep_response(hull: &HullInfo) -> Result<FrequencyResponse, String> {
+    let progress = Progress::new("sweep of all DOFs");
+    let sweep = sweep::run(
+        &hull.hull,
+        hull.depth,
+        &pack_sweep_params(&hull.hull),
+        &|d, t| progress.update(d, t),
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(FrequencyResponse::from_sweep(
+        &sweep,
+        DEFAULT_RHO,
+        DEFAULT_G,
+    ))
+}
+
 /// The network file text of a hull (sweep, then fit), with everything the pipeline produced.
 pub fn build_network_xml(
     hull: &HullInfo,
@@ -239,13 +304,14 @@ pub fn build_network_xml(
         tolerance: options.tol,
         order: options.order,
         form: None,
+        max_step: options.max_step,
     };
-    let sweep_params = SweepParams {
-        panels: hydrofmu::panels::PanelParams::for_hull(&hull.hull),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
-        ..SweepParams::default()
-    };
-    let built = build_network(&hull.hull, hull.depth, &sweep_params, &request)?;
+    let built = build_network(
+        &hull.hull,
+        hull.depth,
+        &pack_sweep_params(&hull.hull),
+        &request,
+    )?;
     Ok((built.fit.network.to_xml_string(), built))
 }
 
@@ -264,6 +330,30 @@ mod tests {
         assert!((a - 9.81f64.sqrt()).abs() < 1e-12 && (b - 2.0 * 9.81f64.sqrt()).abs() < 1e-12);
         for bad in ["4:1", "1:1", "a:b", "1", "-1:2", "1:inf"] {
             assert!(Band::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn max_step_cuts_the_band_at_nyquist() {
+        let request = |max_step| FitRequest {
+            band: Band::RadPerSecond(0.5, 8.0),
+            max_step,
+            ..FitRequest::default()
+        };
+        assert_eq!(
+            request(None).effective_band(1.0).unwrap(),
+            ((0.5, 8.0), None)
+        );
+        // pi / 0.1 = 31.4 rad/s lies above the band: nothing is cut.
+        assert_eq!(
+            request(Some(0.1)).effective_band(1.0).unwrap(),
+            ((0.5, 8.0), None)
+        );
+        let ((lo, hi), cut) = request(Some(1.0)).effective_band(1.0).unwrap();
+        assert_eq!((lo, cut), (0.5, Some(std::f64::consts::PI)));
+        assert_eq!(hi, std::f64::consts::PI);
+        for bad in [Some(0.0), Some(-1.0), Some(f64::NAN), Some(10.0)] {
+            assert!(request(bad).effective_band(1.0).is_err(), "{bad:?}");
         }
     }
 }
