@@ -1,5 +1,6 @@
 //! Regenerates `docs/PERFORMANCE.md` and its figures: speed against error of the panel
-//! method.
+//! method, of the network (order, communication step, scene reduction) and against direct
+//! convolution.
 //!
 //! ```sh
 //! cargo run --release --example performance
@@ -7,6 +8,9 @@
 //!
 //! Times are wall-clock medians of repeated runs in this one process (the machine is shared:
 //! compare ratios within one report, not across reports).
+
+#[path = "performance/network.rs"]
+mod network;
 
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
@@ -58,6 +62,15 @@ fn error(result: &SweepResult, reference: &SweepResult) -> f64 {
 fn main() {
     let started = Instant::now();
     std::fs::create_dir_all("docs/figures").expect("docs/figures");
+    // `--network-only`: the network sections alone, into target/ (a quick check while
+    // editing them; the report itself always has every section).
+    if std::env::args().any(|a| a == "--network-only") {
+        let mut doc = String::new();
+        network::sections(&mut doc, 2, COMMAND);
+        std::fs::write("target/PERFORMANCE-network.md", doc).expect("write");
+        eprintln!("wrote target/PERFORMANCE-network.md");
+        return;
+    }
     let hull = Hull::semicircle(1.0).expect("semicircle");
     let grid = SweepParams::default().kr;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -172,6 +185,8 @@ fn main() {
     }
     let (two, _) = timed(&hull, &params(128, 3, 2, grid.clone()));
     let _ = writeln!(doc, "\nSpeed-up on 2 threads: {:.2}.\n", one / two);
+
+    network::sections(&mut doc, threads, COMMAND);
 
     let _ = writeln!(
         doc,
