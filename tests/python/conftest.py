@@ -6,6 +6,7 @@ them (cargo build --release). Archives go to a session temporary directory.
 import os
 import pathlib
 import subprocess
+import zipfile
 
 import pytest
 
@@ -20,6 +21,28 @@ FMUS = {
     "Seed": ("seed_2dof.xml", []),
     "SeedKeep": ("seed_2dof.xml", ["--keep-inf-mass"]),
     "TwoDof": ("two-dof-sway-heave.xml", []),
+}
+
+# FMUs computed by the whole pipeline (sweep, fit, pack) for the hard-case suite
+# (test_stability.py): name -> how to build it.
+#   ("pack", args)            fmu-pack pack ARGS (sweep and fit inside pack)
+#   ("fit", args)             fmu-pack fit ARGS --network-out, then pack --network (pack has
+#                             no --kr or --panels of its own)
+#   ("repack", name, args)    the network of the pipeline FMU `name`, packed with ARGS
+PIPELINE_FMUS = {
+    "SemicircleHeave": ("pack", ["semicircle", "--dofs", "heave"]),
+    "SemicircleHeaveKeep": (
+        "repack", "SemicircleHeave", ["semicircle", "--dofs", "heave", "--keep-inf-mass"]
+    ),
+    "CircleH11Heave": ("pack", ["circle", "--depth", "1.1", "--dofs", "heave"]),
+    "SemicircleHeaveKr20": (
+        "fit",
+        ["semicircle", "--dofs", "heave", "--kr", "0.01:20:121", "--band", "0.05:20"],
+    ),
+    "SemicircleHeave2048": (
+        "fit",
+        ["semicircle", "--dofs", "heave", "--panels", "2048", "--kr", "0.05:5:8"],
+    ),
 }
 
 
@@ -66,3 +89,41 @@ def fmus(tmp_path_factory):
 @pytest.fixture(scope="session")
 def fmu_pack_binary():
     return _release_binaries()[0]
+
+
+@pytest.fixture(scope="session")
+def pipeline_fmu(tmp_path_factory):
+    """build(name) -> (archive path, everything fmu-pack printed), for the FMUs of
+    PIPELINE_FMUS; each is built once per session, when a test first asks for it."""
+    fmu_pack, library = _release_binaries()
+    out = tmp_path_factory.mktemp("pipeline")
+    built = {}
+
+    def run(*args):
+        r = subprocess.run([str(fmu_pack), *args], check=True, capture_output=True, text=True)
+        return r.stdout + r.stderr
+
+    def build(name):
+        if name in built:
+            return built[name]
+        kind, *spec = PIPELINE_FMUS[name]
+        path = out / f"{name}.fmu"
+        pack = ["pack", "--binary", str(library), "-o", str(path)]
+        if kind == "pack":
+            log = run(*pack, *spec[0])
+        elif kind == "fit":
+            network = out / f"{name}.xml"
+            log = run("fit", *spec[0], "--network-out", str(network))
+            hull = spec[0][0]
+            dofs = spec[0][spec[0].index("--dofs") + 1]
+            log += run(*pack, hull, "--dofs", dofs, "--network", str(network))
+        else:
+            source, args = spec
+            with zipfile.ZipFile(build(source)[0]) as archive:
+                network = out / f"{name}.xml"
+                network.write_bytes(archive.read("resources/network.xml"))
+            log = run(*pack, *args, "--network", str(network))
+        built[name] = (path, log)
+        return built[name]
+
+    return build
