@@ -197,6 +197,23 @@ fn main() {
     );
     let _ = writeln!(
         doc,
+        "Network: the automatic order, the smallest that meets the 1 % tolerance in the band \
+         kR 0.05 .. 5. On the order curve this is the knee: one order less misses the \
+         tolerance, more orders buy little accuracy, cost step time and can over-fit into \
+         stages no step resolves. 1 % of the added mass is below the scatter between \
+         published panel codes and experiments for ship sections, and the band covers wave \
+         periods of about 1 to 9 s for a 1 m half-beam (scale with sqrt(R)).\n"
+    );
+    let _ = writeln!(
+        doc,
+        "Coupling: the FMU steps exactly for inputs held or ramped over the step, so the \
+         coupling error is the master's. With input and output derivatives (first-order hold) \
+         the error falls with h^2; a 4 s oscillation needs h <= 0.05 s for 1e-3 of its \
+         amplitude. Without them (zero-order hold) the same accuracy would need about 100 \
+         times more steps.\n"
+    );
+    let _ = writeln!(
+        doc,
         "Generated in {:.0} s.",
         started.elapsed().as_secs_f64()
     );

@@ -45,6 +45,16 @@ use std::path::{Path, PathBuf};
 /// Relative tolerance on the communication point (times max(|t|, h)).
 pub const TIME_TOLERANCE: f64 = 1e-10;
 
+/// Largest magnitude accepted for an input, an input derivative or a parameter (SI). Far
+/// beyond anything physical, and small enough that force, power and energy stay finite
+/// (they are at most quadratic in the inputs); larger values are refused like NaN.
+pub const MAX_INPUT: f64 = 1e100;
+
+/// A finite value within [`MAX_INPUT`].
+fn acceptable(value: f64) -> bool {
+    value.is_finite() && value.abs() <= MAX_INPUT
+}
+
 /// Why a model call was refused. The state is unchanged whenever an error is returned.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ModelError {
@@ -82,7 +92,10 @@ impl fmt::Display for ModelError {
             ModelError::Parameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
-            ModelError::Input { what, value } => write!(f, "input {what} = {value} is not finite"),
+            ModelError::Input { what, value } => write!(
+                f,
+                "input {what} = {value:e} is not finite or exceeds {MAX_INPUT:e} in magnitude"
+            ),
             ModelError::Variable(m) => write!(f, "{m}"),
             ModelError::Step(m) => write!(f, "step refused: {m}"),
             ModelError::State(m) => write!(f, "FMU state: {m}"),
@@ -244,7 +257,7 @@ fn check_parameter(name: &'static str, value: f64) -> Result<(), ModelError> {
         .find(|p| p.name == name)
         .map(|p| p.min)
         .unwrap_or(0.0);
-    if value.is_finite() && value >= min {
+    if acceptable(value) && value >= min {
         Ok(())
     } else {
         Err(ModelError::Parameter { name, value })
@@ -772,13 +785,13 @@ impl Model {
             Quantity::Rho => self.set_parameters(value, self.state.g)?,
             Quantity::G => self.set_parameters(self.state.rho, value)?,
             Quantity::Velocity(i) if i < n => {
-                if !value.is_finite() {
+                if !acceptable(value) {
                     return Err(refuse("velocity", i));
                 }
                 self.state.velocity[i] = value;
             }
             Quantity::Acceleration(i) if i < n && self.system.keep_inf_mass => {
-                if !value.is_finite() {
+                if !acceptable(value) {
                     return Err(refuse("acceleration", i));
                 }
                 self.state.acceleration[i] = value;
@@ -797,7 +810,7 @@ impl Model {
         quantity: Quantity,
         value: f64,
     ) -> Result<(), ModelError> {
-        if !value.is_finite() {
+        if !acceptable(value) {
             return Err(ModelError::Input {
                 what: format!("derivative of {quantity:?}"),
                 value,
@@ -837,7 +850,7 @@ impl Model {
         }
         // -0.0 + 0.0 = +0.0: a force at rest reads 0, not -0.
         out.force.add_scalar_mut(0.0);
-        out.power = -out.force.dot(&s.velocity);
+        out.power = -out.force.dot(&s.velocity) + 0.0;
         out.energy = None;
         self.outputs_valid = true;
     }
@@ -1314,11 +1327,21 @@ pub(crate) mod tests {
         assert!(m
             .set_input_derivative(Quantity::Velocity(0), f64::NAN)
             .is_err());
-        // Huge but finite inputs whose ramp overflows: refused, unchanged.
-        m.set_value(Quantity::Velocity(0), 1e308).unwrap();
-        m.set_input_derivative(Quantity::Velocity(0), 1e308)
+        // Huge but finite inputs beyond MAX_INPUT: refused, unchanged.
+        assert!(m.set_value(Quantity::Velocity(0), 1e308).is_err());
+        assert!(m
+            .set_input_derivative(Quantity::Velocity(0), -1e101)
+            .is_err());
+        assert!(m.set_parameters(1e300, 9.81).is_err());
+        assert_eq!(m.state(), &before);
+        // At the bound, a ramp over a long step still stays finite; then back to 1 m/s.
+        m.set_value(Quantity::Velocity(0), MAX_INPUT).unwrap();
+        m.set_input_derivative(Quantity::Velocity(0), MAX_INPUT)
             .unwrap();
-        assert!(m.step(0.1, 10.0).is_err());
+        let mut probe = m.clone();
+        probe.step(0.1, 10.0).unwrap();
+        assert!(probe.forces().iter().all(|f| f.is_finite()));
+        assert!(probe.value(Quantity::Energy).unwrap().is_finite());
         m.set_value(Quantity::Velocity(0), 1.0).unwrap();
         m.set_input_derivative(Quantity::Velocity(0), 0.0).unwrap();
         assert_eq!(m.state(), &before);

@@ -168,6 +168,9 @@ pub fn build_network(
     let sweep = sweep::run(hull, depth, sweep_params, &|d, t| progress.update(d, t))
         .map_err(|e| e.to_string())?;
     let sweep_time = start.elapsed();
+    for warning in &sweep.warnings {
+        eprintln!("fmu-pack: warning: {warning}");
+    }
     let response = FrequencyResponse::from_sweep(&sweep, DEFAULT_RHO, DEFAULT_G);
     let form = request.form.unwrap_or(if sweep.dof_names.len() == 1 {
         NetworkForm::SeriesChain
