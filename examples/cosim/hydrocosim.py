@@ -1,0 +1,379 @@
+"""Shared pieces of the co-simulation examples (see docs/COSIMULATION.md).
+
+A linear structure with generalized coordinates ``p`` (mass ``M_s``, damping ``C_s``,
+stiffness ``K_s``) moves the hull; the hull's FMU coordinates are ``q = T p`` (``T``: the map
+from structure coordinates to the FMU's DOFs ``velocity.<dof>``). The FMU returns the force on
+the hull by the water without ``-A_inf q''`` (DESIGN.md); generalized on the structure it is
+``T^T F``.
+
+Co-simulation master (the same scheme under fmpy and libcosimpy, Jacobi, zero-order hold):
+
+* the master adds ``T^T A_inf T`` (FMU ``added_mass_inf``) to its mass matrix and
+  ``T^T D T`` (FMU ``damping_direct``, the direct feedthrough ``F = ... - D v``) to its damping
+  matrix, so the FMU output it still needs is the network state's force
+  ``F_z = F + D v_held`` (smooth, no feedthrough);
+* per communication step ``[t_n, t_n + h]`` the FMU steps with a held hull velocity and the
+  structure steps exactly (matrix exponential) under ``T^T F_z``: scheme "zoh" holds
+  ``v(t_n)`` and ``F_z(t_n)`` (first order in ``h``); scheme "ramp" holds the extrapolated
+  mid-step velocity ``1.5 v(t_n) - 0.5 v(t_(n-1))`` and ramps the structure's force from
+  ``F_z(t_n)`` to ``F_z(t_(n+1))``, read after the FMU's step (second order). Both need only
+  held inputs, so libcosim's fixed-step algorithm runs them as well as fmpy.
+
+Monolithic reference (seed paper, eq. 19): the network's augmented ``M, C, K`` over
+``[q; auxiliary masses]`` (docs/NETWORK_FORMAT.md, ``realize::augmented_matrices``),
+transformed by ``blockdiag(T, I)``, plus the structure; solved exactly on the communication
+grid with one matrix exponential. The network starts at rest: every auxiliary mass of a
+branch sits at the branch coordinate ``d^T q(0)`` (springs unstretched), which is the FMU's
+zero initial state.
+"""
+from __future__ import annotations
+
+import os
+import pathlib
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FMU_DIR = pathlib.Path(os.environ.get("HYDROFMU_COSIM_FMUS", ROOT / "examples" / "cosim" / "fmus"))
+FIGURES = ROOT / "docs" / "figures"
+
+RHO = 1025.0  # water density, kg/m3
+G = 9.81  # gravity, m/s2
+RADIUS = 1.0  # semicircle radius R, m
+
+
+# --------------------------------------------------------------------------- FMUs
+
+
+def ensure_fmu(name: str, pack_args: list[str], path: str | os.PathLike | None = None) -> pathlib.Path:
+    """The FMU at `path` (default FMU_DIR/name.fmu); packs it with fmu-pack when missing."""
+    fmu = pathlib.Path(path) if path else FMU_DIR / f"{name}.fmu"
+    if fmu.is_file():
+        return fmu
+    fmu.parent.mkdir(parents=True, exist_ok=True)
+    command = ["cargo", "run", "--release", "-q", "-p", "fmu-pack", "--", "pack", *pack_args, "-o", str(fmu)]
+    print("packing:", " ".join(command), file=sys.stderr)
+    subprocess.run(command, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+    return fmu
+
+
+# --------------------------------------------------------------------------- network
+
+
+@dataclass
+class Network:
+    """The equivalent network read from an FMU's resources/network.xml (SI, per metre)."""
+
+    dofs: list[str]
+    rho: float
+    g: float
+    added_mass_inf: np.ndarray
+    # per branch: (direction (n,), stages [(mass, stiffness, damping), ...] from the hull out)
+    branches: list[tuple[np.ndarray, list[tuple[float, float, float]]]] = field(default_factory=list)
+
+    @classmethod
+    def from_fmu(cls, fmu: str | os.PathLike) -> "Network":
+        with zipfile.ZipFile(fmu) as archive:
+            root = ET.fromstring(archive.read("resources/network.xml"))
+        dofs = [d.get("name") for d in root.findall("dof")]
+        rows = [[float(x) for x in r.text.split()] for r in root.find("added_mass_inf").findall("row")]
+        branches = []
+        for b in root.findall("branch"):
+            direction = np.array([float(x) for x in b.find("direction").text.split()])
+            stages = [
+                (float(s.get("mass")), float(s.get("stiffness")), float(s.get("damping"))) for s in b.findall("stage")
+            ]
+            branches.append((direction, stages))
+        return cls(dofs, float(root.get("rho")), float(root.get("g")), np.array(rows), branches)
+
+    def scaled(self, rho: float, g: float) -> "Network":
+        """The same network in other water (NETWORK_FORMAT.md: masses ~ rho, springs ~ rho g,
+        dampers ~ rho sqrt(g))."""
+        r, s = rho / self.rho, g / self.g
+        branches = [(d, [(m * r, k * r * s, c * r * np.sqrt(s)) for m, k, c in st]) for d, st in self.branches]
+        return Network(self.dofs, rho, g, self.added_mass_inf * r, branches)
+
+    @property
+    def aux_count(self) -> int:
+        return sum(len(st) for _, st in self.branches)
+
+    def damping_direct(self) -> np.ndarray:
+        """Sum over branches of c1 d d^T (the FMU's damping_direct)."""
+        return sum((st[0][2] * np.outer(d, d) for d, st in self.branches), np.zeros_like(self.added_mass_inf))
+
+    def augmented_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Seed eq. 19: M, C, K over [q; aux] (hull block of M = A_inf, no body mass).
+
+        Spring j's elongation is e_j = x_j - d^T q (first stage) or x_j - x_(j-1)."""
+        n, na = len(self.dofs), self.aux_count
+        mass = np.zeros((n + na, n + na))
+        damping = np.zeros_like(mass)
+        stiffness = np.zeros_like(mass)
+        mass[:n, :n] = self.added_mass_inf
+        row = 0
+        for d, stages in self.branches:
+            for j, (m, k, c) in enumerate(stages):
+                e = np.zeros(n + na)
+                if j == 0:
+                    e[:n] = -d
+                else:
+                    e[n + row - 1] = -1.0
+                e[n + row] = 1.0
+                mass[n + row, n + row] = m
+                damping += c * np.outer(e, e)
+                stiffness += k * np.outer(e, e)
+                row += 1
+        return mass, damping, stiffness
+
+    def aux_at_rest(self, q0: np.ndarray) -> np.ndarray:
+        """Auxiliary positions with every spring unstretched for hull position q0."""
+        return np.concatenate([np.full(len(st), d @ q0) for d, st in self.branches])
+
+
+# --------------------------------------------------------------------------- linear algebra
+
+
+def expm(a: np.ndarray) -> np.ndarray:
+    """Matrix exponential: scaling and squaring with a degree-20 Taylor polynomial
+    (|a / 2^s| <= 1/2, truncation < 1e-25 relative)."""
+    norm = np.linalg.norm(a, 1)
+    s = max(0, int(np.ceil(np.log2(norm))) + 1) if norm > 0 else 0
+    x = a / 2.0**s
+    term = np.eye(len(a))
+    result = term.copy()
+    for k in range(1, 21):
+        term = term @ x / k
+        result = result + term
+    for _ in range(s):
+        result = result @ result
+    return result
+
+
+def first_order(mass, damping, stiffness):
+    """y = [p; p'], y' = A y + B f for M p'' + C p' + K p = f."""
+    n = len(mass)
+    inv = np.linalg.inv(mass)
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n] = -inv @ stiffness
+    a[n:, n:] = -inv @ damping
+    b = np.vstack([np.zeros((n, n)), inv])
+    return a, b
+
+
+def hold_discretization(a: np.ndarray, b: np.ndarray, h: float):
+    """Exact discretization over one step for an input ramped from f0 to f1:
+    y(h) = Phi y(0) + Gamma0 f0 + Gamma1 (f1 - f0) (a held input: f1 = f0)."""
+    n, m = b.shape
+    big = np.zeros((n + 2 * m, n + 2 * m))
+    big[:n, :n] = a * h
+    big[:n, n : n + m] = b * h
+    big[n : n + m, n + m :] = np.eye(m)
+    e = expm(big)
+    return e[:n, :n], e[:n, n : n + m], e[:n, n + m :]
+
+
+# --------------------------------------------------------------------------- models
+
+
+@dataclass
+class Structure:
+    """M_s p'' + C_s p' + K_s p = T^T F_water, hull coordinates q = T p."""
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    to_hull: np.ndarray  # T, (n_q, n_p)
+
+
+def monolithic(structure: Structure, network: Network, p0, h: float, steps: int) -> np.ndarray:
+    """Seed eq. 19 with the structure: p(t_n), n = 0..steps, t_n = n h; starts at rest at p0."""
+    t = structure.to_hull
+    nq, np_ = t.shape
+    na = network.aux_count
+    mass, damping, stiffness = network.augmented_matrices()
+    big_t = np.zeros((nq + na, np_ + na))
+    big_t[:nq, :np_] = t
+    big_t[nq:, np_:] = np.eye(na)
+    mats = [big_t.T @ m @ big_t for m in (mass, damping, stiffness)]
+    for m, s in zip(mats, (structure.mass, structure.damping, structure.stiffness)):
+        m[:np_, :np_] += s
+    a, _ = first_order(*mats)
+    phi = expm(a * h)
+    p0 = np.asarray(p0, dtype=float)
+    y = np.concatenate([p0, network.aux_at_rest(t @ p0), np.zeros(np_ + na)])
+    out = np.empty((steps + 1, np_))
+    out[0] = p0
+    for n in range(steps):
+        y = phi @ y
+        out[n + 1] = y[:np_]
+    return out
+
+
+def eigen_modes(mass, damping, stiffness):
+    """Eigenvalues with Im > 0 of M p'' + C p' + K p = 0 and their eigenvectors (p part)."""
+    a, _ = first_order(mass, damping, stiffness)
+    lam, vec = np.linalg.eig(a)
+    keep = lam.imag > 1e-9
+    order = np.argsort(lam[keep].imag)
+    return lam[keep][order], vec[: len(mass), keep][:, order]
+
+
+# --------------------------------------------------------------------------- masters
+
+
+class FmpyHull:
+    """The hull FMU under fmpy's FMU2Slave (the Python loop is the master)."""
+
+    def __init__(self, fmu, rho=RHO, g=G, name="hull"):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave
+
+        self.md = read_model_description(str(fmu))
+        self.unzipped = extract(str(fmu))
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.dofs = [v.name[len("velocity."):] for v in self.md.modelVariables if v.name.startswith("velocity.")]
+        self.fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=self.unzipped,
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
+        self.fmu.instantiate(loggingOn=False)
+        self.fmu.setReal([self.vr["rho"], self.vr["g"]], [rho, g])
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+        self.v_in = [self.vr[f"velocity.{d}"] for d in self.dofs]
+        self.f_out = [self.vr[f"force.{d}"] for d in self.dofs]
+
+    def matrix(self, name: str) -> np.ndarray:
+        n = len(self.dofs)
+        refs = [self.vr[f"{name}[{i + 1},{j + 1}]"] for i in range(n) for j in range(n)]
+        return np.array(self.fmu.getReal(refs)).reshape(n, n)
+
+    def advance(self, time: float, h: float, velocity) -> np.ndarray:
+        """Steps [time, time + h] with `velocity` held; returns force.<dof> after the step."""
+        self.fmu.setReal(self.v_in, list(velocity))
+        self.fmu.doStep(currentCommunicationPoint=time, communicationStepSize=h)
+        return np.array(self.fmu.getReal(self.f_out))
+
+    def close(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+class LibcosimHull:
+    """The hull FMU as a libcosim local slave, stepped by libcosim's fixed-step algorithm.
+
+    libcosim needs every model to be an FMU; the structure here is Python, so the loop sets the
+    hull velocity through an override manipulator, steps the execution one communication step
+    and reads the force through a last-value observer (libcosim applies the override before the
+    FMU's doStep and samples outputs after it)."""
+
+    def __init__(self, fmu, h: float, rho=RHO, g=G, name="hull"):
+        from fmpy import read_model_description
+        from libcosimpy.CosimExecution import CosimExecution
+        from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+        from libcosimpy.CosimManipulator import CosimManipulator
+        from libcosimpy.CosimObserver import CosimObserver
+        from libcosimpy.CosimSlave import CosimLocalSlave
+
+        log_output_level(CosimLogLevel.WARNING)
+        md = read_model_description(str(fmu))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.dofs = [v.name[len("velocity."):] for v in md.modelVariables if v.name.startswith("velocity.")]
+        self.h_ns = round(h * 1e9)
+        if abs(self.h_ns * 1e-9 - h) > 1e-15:
+            raise ValueError(f"step {h} s is not a whole number of nanoseconds (libcosim time unit)")
+        self.execution = CosimExecution.from_step_size(step_size=self.h_ns)
+        self.slave = self.execution.add_local_slave(CosimLocalSlave(fmu_path=str(fmu), instance_name=name))
+        self.execution.real_initial_value(self.slave, self.vr["rho"], rho)
+        self.execution.real_initial_value(self.slave, self.vr["g"], g)
+        self.manipulator = CosimManipulator.create_override()
+        self.observer = CosimObserver.create_last_value()
+        self.execution.add_manipulator(self.manipulator)
+        self.execution.add_observer(self.observer)
+        self.v_in = [self.vr[f"velocity.{d}"] for d in self.dofs]
+        self.f_out = [self.vr[f"force.{d}"] for d in self.dofs]
+
+    def advance(self, time: float, h: float, velocity) -> np.ndarray:
+        """Steps [time, time + h] with `velocity` held; returns force.<dof> after the step."""
+        self.manipulator.slave_real_values(self.slave, self.v_in, list(velocity))
+        if not self.execution.step():
+            raise RuntimeError(f"libcosim step failed at t = {time}")
+        return np.array(self.observer.last_real_values(self.slave, self.f_out))
+
+    def close(self):
+        self.execution.stop()
+
+
+SCHEMES = ("zoh", "ramp")
+
+
+def cosimulate(
+    hull, structure: Structure, added_mass_inf, damping_direct, p0, h: float, steps: int, scheme: str = "ramp"
+) -> np.ndarray:
+    """Runs the master (module docs) over `steps` communication steps of `h`; p(t_n).
+
+    scheme "zoh": the FMU gets v(t_n), the structure F_z(t_n), both held (first order).
+    scheme "ramp": the FMU gets the extrapolated mid-step velocity 1.5 v(t_n) - 0.5 v(t_(n-1))
+    held, the structure F_z ramped from F_z(t_n) to F_z(t_(n+1)) (FMU first; second order)."""
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme {scheme!r}: expected one of {SCHEMES}")
+    t = structure.to_hull
+    mass = structure.mass + t.T @ added_mass_inf @ t
+    damping = structure.damping + t.T @ damping_direct @ t
+    a, b = first_order(mass, damping, structure.stiffness)
+    phi, gamma0, gamma1 = hold_discretization(a, b, h)
+    n = len(mass)
+    y = np.concatenate([np.asarray(p0, dtype=float), np.zeros(n)])
+    out = np.empty((steps + 1, n))
+    out[0] = y[:n]
+    force = np.zeros(len(t))  # F_z(0) = C z(0) = 0: the network starts at rest
+    previous = t @ y[n:]
+    for k in range(steps):
+        velocity = t @ y[n:]
+        held = velocity if scheme == "zoh" else 1.5 * velocity - 0.5 * previous
+        next_force = hull.advance(k * h, h, held) + damping_direct @ held  # F_z(t_(n+1))
+        if scheme == "zoh":
+            y = phi @ y + gamma0 @ (t.T @ force)
+        else:
+            y = phi @ y + gamma0 @ (t.T @ force) + gamma1 @ (t.T @ (next_force - force))
+        previous = velocity
+        force = next_force
+        out[k + 1] = y[:n]
+    return out
+
+
+# --------------------------------------------------------------------------- plots
+
+
+def pyplot():
+    import matplotlib
+
+    matplotlib.use("svg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({"svg.hashsalt": "hydrofmu", "figure.dpi": 100, "font.size": 9})
+    return plt
+
+
+def envelope(values: np.ndarray, h: float, window: float):
+    """Window midpoints and the largest value in each window of `window` seconds."""
+    per = max(1, int(round(window / h)))
+    count = len(values) // per
+    blocks = values[: count * per].reshape(count, per).max(axis=1)
+    return (np.arange(count) + 0.5) * per * h, np.maximum(blocks, 1e-12)
+
+
+def save_svg(fig, name: str) -> pathlib.Path:
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    path = FIGURES / name
+    fig.savefig(path, format="svg", metadata={"Date": None}, bbox_inches="tight")
+    return path
