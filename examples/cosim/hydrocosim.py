@@ -372,8 +372,23 @@ def envelope(values: np.ndarray, h: float, window: float):
     return (np.arange(count) + 0.5) * per * h, np.maximum(blocks, 1e-12)
 
 
+def provenance() -> str:
+    """The command, the machine and the date, for figure captions."""
+    import datetime
+    import platform
+
+    script = pathlib.Path(sys.argv[0]).resolve()
+    if script.is_relative_to(ROOT):
+        script = script.relative_to(ROOT)
+    command = " ".join([".venv/bin/python", script.as_posix(), *sys.argv[1:]])
+    cpus = os.cpu_count() or 1
+    machine = f"{platform.processor() or platform.machine()} ({cpus} cores)"
+    return f"{command} on {machine}, {datetime.date.today().isoformat()}"
+
+
 def save_svg(fig, name: str) -> pathlib.Path:
     FIGURES.mkdir(parents=True, exist_ok=True)
+    fig.text(0.01, -0.02, provenance(), fontsize=7, color="#555555", ha="left", va="top")
     path = FIGURES / name
     fig.savefig(path, format="svg", metadata={"Date": None}, bbox_inches="tight")
     return path
