@@ -425,6 +425,10 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
     } else {
         problem.fit_single_dof(params, tolerance)?
     };
+    let rate = fastest_rate(&network);
+    if rate > problem.rate_limit() {
+        return Err(problem.over_fit_error(order, rate));
+    }
     network.validate().map_err(|e| {
         IdentifyError::InvalidData(format!(
             "the fitted network is not valid ({e}); check the data"
@@ -459,6 +463,31 @@ fn distinct_dynamics(network: &Network) -> usize {
     seen.len()
 }
 
+/// Fastest time scale a fitted network may have, as a multiple of the band's top frequency.
+/// An over-fitted stage (negligible mass with extreme stiffness or damping) has rates far
+/// beyond any band and any communication step; it carries no information and makes the
+/// network stiff. Such candidates are refused.
+pub const FASTEST_RATE_OVER_BAND: f64 = 1e4;
+
+/// The fastest rate (1/s) of a network's stages: `sqrt(k / m)` and `c / m` for the masses
+/// each spring and damper acts on. An upper estimate of the state matrix's largest
+/// eigenvalue, cheap and robust for any values.
+pub fn fastest_rate(network: &Network) -> f64 {
+    let mut fastest = 0.0f64;
+    for branch in &network.branches {
+        let mut previous: Option<f64> = None;
+        for stage in &branch.stages {
+            for m in [Some(stage.mass), previous].into_iter().flatten() {
+                fastest = fastest
+                    .max((stage.stiffness / m).sqrt())
+                    .max(stage.damping / m);
+            }
+            previous = Some(stage.mass);
+        }
+    }
+    fastest
+}
+
 /// Keeps the better of `best` and `candidate` (smaller error).
 fn keep_best(best: &mut Option<(f64, usize, Network)>, candidate: (f64, usize, Network)) {
     if !matches!(best, Some((e, _, _)) if *e <= candidate.0) {
@@ -467,6 +496,20 @@ fn keep_best(best: &mut Option<(f64, usize, Network)>, candidate: (f64, usize, N
 }
 
 impl Problem {
+    /// The fastest rate a fitted network may have (1/s), see [`FASTEST_RATE_OVER_BAND`].
+    fn rate_limit(&self) -> f64 {
+        FASTEST_RATE_OVER_BAND * self.omega[self.omega.len() - 1]
+    }
+
+    fn over_fit_error(&self, order: usize, rate: f64) -> IdentifyError {
+        IdentifyError::InvalidParams(format!(
+            "order {order} over-fits the data: a stage has the rate {rate:.3e} 1/s, more than \
+             {FASTEST_RATE_OVER_BAND:e} times the band's top frequency {:.4} rad/s (negligible \
+             mass with extreme stiffness or damping); use a lower order or the automatic one",
+            self.omega[self.omega.len() - 1]
+        ))
+    }
+
     /// One-DOF forms: orders 1, 2, ... (see the module docs). Returns the order, the network
     /// and the LM iterations.
     fn fit_single_dof(
@@ -479,6 +522,7 @@ impl Problem {
         let last = params.order.unwrap_or(params.max_order);
         let mut iterations = 0;
         let mut best: Option<(f64, usize, Network)> = None;
+        let mut over_fit = None;
         let mut previous: Option<Vec<Vec<Stage>>> = None;
         for order in 1..=last {
             let candidate = params.order.is_none() || order == last;
@@ -496,6 +540,11 @@ impl Problem {
             if !candidate {
                 continue;
             }
+            let rate = fastest_rate(&network);
+            if rate > self.rate_limit() {
+                over_fit = Some((order, rate));
+                continue;
+            }
             let err = self.max_relative_error(&network);
             let met = err <= tolerance;
             keep_best(&mut best, (err, order, network));
@@ -503,8 +552,11 @@ impl Problem {
                 break;
             }
         }
-        let (_, order, network) = best.ok_or_else(|| {
-            IdentifyError::InvalidParams("no order could be fitted within max_order".into())
+        let (_, order, network) = best.ok_or_else(|| match over_fit {
+            Some((order, rate)) => self.over_fit_error(order, rate),
+            None => {
+                IdentifyError::InvalidParams("no order could be fitted within max_order".into())
+            }
         })?;
         Ok((order, network, iterations))
     }

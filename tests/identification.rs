@@ -186,3 +186,46 @@ fn irregular_frequency_spikes_never_reach_the_fitted_data() {
         assert!(worst < 1e-4, "kR {centre}: second difference {worst}");
     }
 }
+
+#[test]
+fn over_fitted_orders_are_refused_and_automatic_fits_stay_resolvable() {
+    // Forcing many more stages than the data needs drives one to a negligible mass with
+    // extreme stiffness or damping (measured: rates of 1e10 to 1e30 1/s at orders 4 and 5),
+    // which no step resolves and which made the FMU's exponential overflow. Refused with a
+    // clear error; the automatic order stays far below the limit.
+    let sway = semicircle().select(&["sway"]).unwrap();
+    let band = (omega_of(0.05), omega_of(4.5));
+    let forced = identify::fit(
+        &sway,
+        &FitParams {
+            band,
+            order: Some(6),
+            ..FitParams::default()
+        },
+    );
+    match forced {
+        Err(e) => assert!(e.to_string().contains("over-fits"), "{e}"),
+        Ok(report) => assert!(
+            identify::fastest_rate(&report.network) <= identify::FASTEST_RATE_OVER_BAND * band.1
+        ),
+    }
+    for data in [&sway, semicircle()] {
+        let form = if data.dof_count() == 1 {
+            NetworkForm::SeriesChain
+        } else {
+            NetworkForm::Coupled
+        };
+        let report = identify::fit(
+            data,
+            &FitParams {
+                form,
+                band,
+                ..FitParams::default()
+            },
+        )
+        .unwrap();
+        // Fastest rate within 100 times the band's top: every stage is a physical time scale.
+        let rate = identify::fastest_rate(&report.network);
+        assert!(rate <= 100.0 * band.1, "{rate}");
+    }
+}
