@@ -45,12 +45,11 @@ fn fits(c: &mut Criterion) {
     let coupled = FitParams {
         form: NetworkForm::Coupled,
         band: (omega(0.05) * 0.999, omega(4.0) * 1.001),
-        tolerance: Some(0.02),
         ..FitParams::default()
     };
     let mut group = c.benchmark_group("coupled");
     group.sample_size(10);
-    group.bench_function("fit 9x9 coupled network, 2 % tolerance", |b| {
+    group.bench_function("fit 9x9 coupled network, default 1 % tolerance", |b| {
         b.iter(|| identify::fit(black_box(&data), &coupled).expect("fit"))
     });
     group.finish();

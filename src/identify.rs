@@ -425,8 +425,15 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
     } else {
         problem.fit_single_dof(params, tolerance)?
     };
+    let mut network = network;
+    let limit = problem.rate_limit();
+    if params.form == NetworkForm::Coupled {
+        // Over-fitted branches carry no information in the band: dropped (the report then
+        // measures the network that remains).
+        network.branches.retain(|b| branch_rate(b) <= limit);
+    }
     let rate = fastest_rate(&network);
-    if rate > problem.rate_limit() {
+    if rate > limit {
         return Err(problem.over_fit_error(order, rate));
     }
     network.validate().map_err(|e| {
@@ -473,17 +480,20 @@ pub const FASTEST_RATE_OVER_BAND: f64 = 1e4;
 /// each spring and damper acts on. An upper estimate of the state matrix's largest
 /// eigenvalue, cheap and robust for any values.
 pub fn fastest_rate(network: &Network) -> f64 {
+    network.branches.iter().map(branch_rate).fold(0.0, f64::max)
+}
+
+/// [`fastest_rate`] of one branch.
+fn branch_rate(branch: &Branch) -> f64 {
     let mut fastest = 0.0f64;
-    for branch in &network.branches {
-        let mut previous: Option<f64> = None;
-        for stage in &branch.stages {
-            for m in [Some(stage.mass), previous].into_iter().flatten() {
-                fastest = fastest
-                    .max((stage.stiffness / m).sqrt())
-                    .max(stage.damping / m);
-            }
-            previous = Some(stage.mass);
+    let mut previous: Option<f64> = None;
+    for stage in &branch.stages {
+        for m in [Some(stage.mass), previous].into_iter().flatten() {
+            fastest = fastest
+                .max((stage.stiffness / m).sqrt())
+                .max(stage.damping / m);
         }
+        previous = Some(stage.mass);
     }
     fastest
 }
@@ -3132,6 +3142,16 @@ mod tests {
                     ..FitParams::default()
                 },
             );
+            // Every returned network is resolvable in time.
+            let limit = FASTEST_RATE_OVER_BAND * omega[omega.len() - 1];
+            assert!(fastest_rate(&report.network) <= limit, "{form}");
+            if form == NetworkForm::SeriesChain {
+                // A chain reaches this peak only through a degenerate stage (measured: a rate
+                // of 6e28 1/s at order 3), which is refused; the best resolvable chain is
+                // returned and says it misses (fmu-pack then takes the parallel bank).
+                assert!(report.tolerance_met || report.max_relative_error < 0.1);
+                continue;
+            }
             assert!(
                 report.tolerance_met,
                 "{form}: {}",

@@ -185,7 +185,28 @@ pub fn build_network(
         ..FitParams::default()
     };
     let start = Instant::now();
-    let fit = identify::fit(&response, &params).map_err(|e| e.to_string())?;
+    let mut fit = identify::fit(&response, &params).map_err(|e| e.to_string())?;
+    // One DOF, form not chosen: a series chain first (the seed's form); if it misses the
+    // tolerance, the parallel bank, and the better of the two.
+    if request.form.is_none() && form == NetworkForm::SeriesChain && !fit.tolerance_met {
+        let bank = FitParams {
+            form: NetworkForm::ParallelBank,
+            ..params.clone()
+        };
+        if let Ok(other) = identify::fit(&response, &bank) {
+            let better = (other.tolerance_met, -other.max_relative_error)
+                > (fit.tolerance_met, -fit.max_relative_error);
+            if better {
+                eprintln!(
+                    "fmu-pack: the series chain misses the tolerance ({:.2} %); the parallel \
+                     bank meets it better ({:.2} %) and is used",
+                    100.0 * fit.max_relative_error,
+                    100.0 * other.max_relative_error
+                );
+                fit = other;
+            }
+        }
+    }
     let fit_time = start.elapsed();
     Ok(Built {
         sweep,
