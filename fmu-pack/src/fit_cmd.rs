@@ -61,6 +61,7 @@ pub fn request(
         order,
         form: form.map(parse_form).transpose()?,
         max_step,
+        dofs: None,
     })
 }
 

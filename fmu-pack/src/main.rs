@@ -17,7 +17,6 @@ mod scene;
 mod sweep_cmd;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
@@ -58,19 +57,12 @@ fn run(cli: Cli) -> Result<(), String> {
         Some(Command::Sweep(args)) => sweep_cmd::run(&args)?,
         Some(Command::Fit(args)) => fit_cmd::run(&args)?,
         None => {
-            let args = pack::PackArgs {
-                hull: "semicircle".into(),
-                depth: None,
-                dofs: None,
-                band: None,
-                tol: None,
-                order: None,
-                max_step: None,
-                network: None,
-                keep_inf_mass: false,
-                output: PathBuf::from("Semicircle.fmu"),
-                binary: None,
-                model_identifier: None,
+            // The defaults of `fmu-pack pack semicircle -o Semicircle.fmu`.
+            let args =
+                Cli::try_parse_from(["fmu-pack", "pack", "semicircle", "-o", "Semicircle.fmu"])
+                    .map_err(|e| e.to_string())?;
+            let Some(Command::Pack(args)) = args.command else {
+                return Err("the default pack arguments did not parse".into());
             };
             let summary = pack::pack(&args).map_err(|e| e.to_string())?;
             println!("{summary}");

@@ -15,8 +15,9 @@
 //! hulls (or two networks, or two flag sets) never share one, and the FMU checks it at
 //! instantiation.
 
-use crate::pipeline::{self, Built, HullInfo, NetworkOptions};
+use crate::pipeline::{self, Band, Built, FitRequest, HullInfo};
 use crate::scene::SceneReport;
+use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::model::{Model, Resources};
 use hydrofmu::model_description::FIXED_XML;
 use hydrofmu::variables::{DescriptionInfo, Layout};
@@ -51,18 +52,13 @@ impl From<&str> for PackError {
 /// Arguments of `fmu-pack pack`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PackArgs {
-    /// Hull: a built-in name (semicircle, circle) or a hull file (XML).
-    pub hull: String,
-    /// H/R of the built-in circle (centre depth over radius).
-    #[arg(long)]
-    pub depth: Option<f64>,
-    /// DOFs to keep, comma separated (default: all of the hull's).
-    #[arg(long, value_delimiter = ',')]
-    pub dofs: Option<Vec<String>>,
-    /// Frequency band of the fit.
-    #[arg(long)]
+    /// The hull and the sweep settings (as for `fmu-pack sweep`).
+    #[command(flatten)]
+    pub sweep: HullSweepArgs,
+    /// Frequency band of the fit: `MIN:MAX` in kR, or `MIN:MAXrad/s` (default 0.05:5).
+    #[arg(long, allow_hyphen_values = true)]
     pub band: Option<String>,
-    /// Fit tolerance.
+    /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
     #[arg(long)]
     pub tol: Option<f64>,
     /// Network order.
@@ -157,7 +153,8 @@ impl fmt::Display for PackSummary {
 
 /// `fmu-pack pack`.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
-    let hull = pipeline::load_hull(&args.hull, args.depth, args.dofs.as_deref())?;
+    let (resolved, depth, sweep_params) = args.sweep.resolve()?;
+    let hull = HullInfo::new(&resolved);
     let mut report = None;
     let network_xml = match &args.network {
         Some(path) => {
@@ -172,23 +169,26 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                 .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?
         }
         None => {
-            let options = NetworkOptions {
-                depth: args.depth,
-                band: args.band.clone(),
-                tol: args.tol,
+            let request = FitRequest {
+                band: match &args.band {
+                    Some(text) => Band::parse(text)?,
+                    None => FitRequest::default().band,
+                },
+                tolerance: args.tol,
                 order: args.order,
+                form: None,
                 max_step: args.max_step,
+                dofs: Some(hull.dofs.iter().map(|d| d.name.clone()).collect()),
             };
-            let (xml, built) = pipeline::build_network_xml(&hull, &options)?;
-            // The whole hull's data, to state what leaving DOFs out costs.
-            let full = match &args.dofs {
-                Some(_) => {
-                    let all = pipeline::load_hull(&args.hull, args.depth, None)?;
-                    Some(pipeline::sweep_response(&all)?)
-                }
-                None => None,
+            // Swept whole: the report states what the left-out DOFs would have coupled.
+            let whole = HullSweepArgs {
+                dofs: None,
+                ..args.sweep.clone()
             };
-            let scene = SceneReport::new(&built, full.as_ref());
+            let (whole_hull, _, _) = whole.resolve()?;
+            let built = pipeline::build_network(&whole_hull, depth, &sweep_params, &request)?;
+            let scene = SceneReport::new(&built, built.all_dofs.as_ref());
+            let xml = built.fit.network.to_xml_string();
             report = Some(Fitted { built, scene });
             xml
         }
@@ -744,8 +744,6 @@ mod tests {
                 DofUnit::builtin("roll").unwrap(),
             ],
             xml: Some("<hull/>".into()),
-            hull: hydrofmu::hull::Hull::semicircle(1.0).unwrap(),
-            depth: None,
         }
     }
 

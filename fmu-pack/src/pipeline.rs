@@ -76,6 +76,10 @@ pub struct FitRequest {
     pub order: Option<usize>,
     /// Network form; `None`: series chain for one DOF, coupled network for several.
     pub form: Option<NetworkForm>,
+    /// The DOFs to fit, in this order; `None`: every swept DOF. The sweep covers the whole
+    /// hull either way (its cost hardly depends on the DOF count), so the report can state
+    /// what the left-out DOFs would have coupled.
+    pub dofs: Option<Vec<String>>,
     /// The largest communication step the master will use (s). The band is cut at its
     /// Nyquist frequency `pi / max_step`: the master's signals cannot carry faster motion.
     pub max_step: Option<f64>,
@@ -89,6 +93,7 @@ impl Default for FitRequest {
             order: None,
             form: None,
             max_step: None,
+            dofs: None,
         }
     }
 }
@@ -135,6 +140,8 @@ pub struct Built {
     pub band: (f64, f64),
     /// The Nyquist frequency of `--max-step` when it cut the band (rad/s).
     pub nyquist_cut: Option<f64>,
+    /// The response of every swept DOF, when the fit kept only some (`FitRequest::dofs`).
+    pub all_dofs: Option<FrequencyResponse>,
 }
 
 /// Runs the sweep of `hull` and fits the network the request asks for.
@@ -171,8 +178,18 @@ pub fn build_network(
     for warning in &sweep.warnings {
         eprintln!("fmu-pack: warning: {warning}");
     }
-    let response = FrequencyResponse::from_sweep(&sweep, DEFAULT_RHO, DEFAULT_G);
-    let form = request.form.unwrap_or(if sweep.dof_names.len() == 1 {
+    let mut response = FrequencyResponse::from_sweep(&sweep, DEFAULT_RHO, DEFAULT_G);
+    let mut all_dofs = None;
+    if let Some(keep) = &request.dofs {
+        let names: Vec<&str> = keep.iter().map(String::as_str).collect();
+        let kept = response.select(&names).map_err(|e| e.to_string())?;
+        if kept.dof_count() < response.dof_count() {
+            all_dofs = Some(std::mem::replace(&mut response, kept));
+        } else {
+            response = kept;
+        }
+    }
+    let form = request.form.unwrap_or(if response.dof_count() == 1 {
         NetworkForm::SeriesChain
     } else {
         NetworkForm::Coupled
@@ -216,6 +233,7 @@ pub fn build_network(
         fit_time,
         band,
         nyquist_cut,
+        all_dofs,
     })
 }
 
@@ -228,25 +246,6 @@ pub struct HullInfo {
     pub dofs: Vec<DofUnit>,
     /// Canonical hull file text, packed as `resources/hull.xml`.
     pub xml: Option<String>,
-    /// The hull.
-    pub hull: Hull,
-    /// H/R of the built-in hulls.
-    pub depth: Option<f64>,
-}
-
-/// Options of the network computation for `pack`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct NetworkOptions {
-    /// H/R of a built-in circle.
-    pub depth: Option<f64>,
-    /// Frequency band of the fit (`MIN:MAX` in kR or `MIN:MAXrad/s`).
-    pub band: Option<String>,
-    /// Fit tolerance.
-    pub tol: Option<f64>,
-    /// Network order.
-    pub order: Option<usize>,
-    /// Largest communication step of the master (s).
-    pub max_step: Option<f64>,
 }
 
 /// Unit information of a hull DOF (see docs/DESIGN-NOTES.md, "Units of generalized DOFs").
@@ -265,78 +264,22 @@ pub fn dof_unit(name: &str, kind: Option<DofKind>) -> DofUnit {
     }
 }
 
-/// The hull named by `spec` (built-in name or hull file), restricted to `dofs` if given.
-pub fn load_hull(
-    spec: &str,
-    depth: Option<f64>,
-    dofs: Option<&[String]>,
-) -> Result<HullInfo, String> {
-    let list = dofs.map(|d| d.join(","));
-    let (hull, depth) = crate::hull_arg::resolve(spec, 1.0, depth, list.as_deref())?;
-    let dofs = (0..hull.dof_count())
-        .map(|j| dof_unit(hull.dof_names()[j], hull.dof_kind(j)))
-        .collect();
-    let mut name = hull.name().to_string();
-    if let Some(first) = name.get_mut(0..1) {
-        first.make_ascii_uppercase();
+impl HullInfo {
+    /// What `pack` needs of a resolved hull (see [`crate::hull_arg::resolve`]).
+    pub fn new(hull: &Hull) -> HullInfo {
+        let dofs = (0..hull.dof_count())
+            .map(|j| dof_unit(hull.dof_names()[j], hull.dof_kind(j)))
+            .collect();
+        let mut name = hull.name().to_string();
+        if let Some(first) = name.get_mut(0..1) {
+            first.make_ascii_uppercase();
+        }
+        HullInfo {
+            name,
+            dofs,
+            xml: Some(hull.to_xml_string()),
+        }
     }
-    Ok(HullInfo {
-        name,
-        dofs,
-        xml: Some(hull.to_xml_string()),
-        hull,
-        depth,
-    })
-}
-
-/// The sweep settings `pack` uses for a hull.
-fn pack_sweep_params(hull: &Hull) -> SweepParams {
-    SweepParams {
-        panels: hydrofmu::panels::PanelParams::for_hull(hull),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
-        ..SweepParams::default()
-    }
-}
-
-/// The frequency response of all of a hull's DOFs with `pack`'s sweep settings.
-pub fn sweep_response(hull: &HullInfo) -> Result<FrequencyResponse, String> {
-    let progress = Progress::new("sweep of all DOFs");
-    let sweep = sweep::run(
-        &hull.hull,
-        hull.depth,
-        &pack_sweep_params(&hull.hull),
-        &|d, t| progress.update(d, t),
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(FrequencyResponse::from_sweep(
-        &sweep,
-        DEFAULT_RHO,
-        DEFAULT_G,
-    ))
-}
-
-/// The network file text of a hull (sweep, then fit), with everything the pipeline produced.
-pub fn build_network_xml(
-    hull: &HullInfo,
-    options: &NetworkOptions,
-) -> Result<(String, Built), String> {
-    let request = FitRequest {
-        band: match &options.band {
-            Some(text) => Band::parse(text)?,
-            None => FitRequest::default().band,
-        },
-        tolerance: options.tol,
-        order: options.order,
-        form: None,
-        max_step: options.max_step,
-    };
-    let built = build_network(
-        &hull.hull,
-        hull.depth,
-        &pack_sweep_params(&hull.hull),
-        &request,
-    )?;
-    Ok((built.fit.network.to_xml_string(), built))
 }
 
 #[cfg(test)]

@@ -26,8 +26,6 @@ FMUS = {
 # FMUs computed by the whole pipeline (sweep, fit, pack) for the hard-case suite
 # (test_stability.py): name -> how to build it.
 #   ("pack", args)            fmu-pack pack ARGS (sweep and fit inside pack)
-#   ("fit", args)             fmu-pack fit ARGS --network-out, then pack --network (pack has
-#                             no --kr or --panels of its own)
 #   ("repack", name, args)    the network of the pipeline FMU `name`, packed with ARGS
 PIPELINE_FMUS = {
     "SemicircleHeave": ("pack", ["semicircle", "--dofs", "heave"]),
@@ -36,11 +34,11 @@ PIPELINE_FMUS = {
     ),
     "CircleH11Heave": ("pack", ["circle", "--depth", "1.1", "--dofs", "heave"]),
     "SemicircleHeaveKr20": (
-        "fit",
+        "pack",
         ["semicircle", "--dofs", "heave", "--kr", "0.01:20:121", "--band", "0.05:20"],
     ),
     "SemicircleHeave2048": (
-        "fit",
+        "pack",
         ["semicircle", "--dofs", "heave", "--panels", "2048", "--kr", "0.05:5:8"],
     ),
 }
@@ -111,12 +109,6 @@ def pipeline_fmu(tmp_path_factory):
         pack = ["pack", "--binary", str(library), "-o", str(path)]
         if kind == "pack":
             log = run(*pack, *spec[0])
-        elif kind == "fit":
-            network = out / f"{name}.xml"
-            log = run("fit", *spec[0], "--network-out", str(network))
-            hull = spec[0][0]
-            dofs = spec[0][spec[0].index("--dofs") + 1]
-            log += run(*pack, hull, "--dofs", dofs, "--network", str(network))
         else:
             source, args = spec
             with zipfile.ZipFile(build(source)[0]) as archive:
