@@ -158,10 +158,14 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     let mut report = None;
     let network_xml = match &args.network {
         Some(path) => {
-            if args.band.is_some() || args.tol.is_some() || args.order.is_some() {
+            if args.band.is_some()
+                || args.tol.is_some()
+                || args.order.is_some()
+                || args.max_step.is_some()
+            {
                 return Err(PackError(
-                    "--band, --tol and --order shape a computed network; they cannot apply to \
-                     --network FILE"
+                    "--band, --tol, --order and --max-step shape a computed network; they \
+                     cannot apply to --network FILE"
                         .into(),
                 ));
             }
