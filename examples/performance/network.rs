@@ -284,12 +284,24 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     );
     figure.x_scale = Scale::Log;
     figure.y_scale = Scale::Log;
-    figure.add("sway, series chain, orders 1 .. 5", sway_curve, Style::Line);
     figure.add(
-        "9 DOFs, coupled, orders 2 .. 12",
-        coupled_curve,
-        Style::Line,
+        "sway, series chain, fixed orders 1 .. 3",
+        sway_curve,
+        Style::Markers,
     );
+    figure.add(
+        "9 DOFs, coupled, fixed orders 2 .. 12",
+        coupled_curve,
+        Style::Markers,
+    );
+    let automatic: Vec<(f64, f64)> = [
+        fit(&sway, NetworkForm::SeriesChain, band, None),
+        fit(&all, NetworkForm::Coupled, band, None),
+    ]
+    .iter()
+    .map(|r| (step_cost(&r.network), r.max_relative_error))
+    .collect();
+    figure.add("automatic order (defaults)", automatic, Style::Markers);
     figure.add(
         "1 % default tolerance",
         vec![(10.0, 0.01), (1e5, 0.01)],
