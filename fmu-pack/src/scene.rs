@@ -25,6 +25,8 @@ pub struct RangeError {
     pub omega: (f64, f64),
     /// Largest normalized error.
     pub error: f64,
+    /// The matrix entry (DOF names) where it occurs.
+    pub entry: (String, String),
 }
 
 /// A left-out DOF and its largest normalized coupling to the kept ones in the band.
@@ -81,18 +83,29 @@ impl SceneReport {
                 continue;
             };
             let model = fit.network.added_mass_tf(omega);
-            let error = (0..model.nrows())
-                .flat_map(|i| (0..model.ncols()).map(move |j| (i, j)))
-                .filter(|&(i, j)| scale[(i, j)] > 0.0)
-                .map(|(i, j)| (model[(i, j)] - data.added_mass[k][(i, j)]).norm() / scale[(i, j)])
-                .fold(0.0, f64::max);
+            let mut worst = (0.0f64, 0, 0);
+            for i in 0..model.nrows() {
+                for j in 0..model.ncols() {
+                    if scale[(i, j)] > 0.0 {
+                        let e = (model[(i, j)] - data.added_mass[k][(i, j)]).norm() / scale[(i, j)];
+                        if e > worst.0 {
+                            worst = (e, i, j);
+                        }
+                    }
+                }
+            }
+            let names = &data.dof_names;
             let entry = side.get_or_insert(RangeError {
                 omega: (omega, omega),
                 error: 0.0,
+                entry: (names[0].clone(), names[0].clone()),
             });
             entry.omega.0 = entry.omega.0.min(omega);
             entry.omega.1 = entry.omega.1.max(omega);
-            entry.error = entry.error.max(error);
+            if worst.0 > entry.error {
+                entry.error = worst.0;
+                entry.entry = (names[worst.1].clone(), names[worst.2].clone());
+            }
         }
         let dofs = fit.network.dof_names.clone();
         let left_out = full
@@ -205,10 +218,12 @@ impl fmt::Display for SceneReport {
             match range {
                 Some(r) => writeln!(
                     f,
-                    "error {what}  {} over {:.4} .. {:.4} rad/s (not fitted)",
+                    "error {what}  {} over {:.4} .. {:.4} rad/s (not fitted; largest in {} {})",
                     percent(r.error),
                     r.omega.0,
-                    r.omega.1
+                    r.omega.1,
+                    r.entry.0,
+                    r.entry.1
                 )?,
                 None => writeln!(f, "error {what}  no data there")?,
             }
