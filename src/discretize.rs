@@ -25,6 +25,9 @@
 //! revisited" (SIAM J. Matrix Anal. Appl. 26, 2005): backward error below the unit roundoff.
 //!
 //! [`DiscretizationCache`] keeps the last few step sizes (masters usually use one or two).
+//! [`BlockDiscretizationCache`] does the same for a system of independent blocks, each driven
+//! by one scalar input (a network's branches, driven by their speeds `d_b . v`): one small
+//! exponential per block, and a step costs the blocks' own sizes.
 
 use nalgebra::DMatrix;
 use std::fmt;
