@@ -716,10 +716,12 @@ pub unsafe extern "C" fn fmi2SetReal(
                     parameters = true;
                 }
                 Quantity::Velocity(_) | Quantity::Acceleration(_) => {
-                    if !x.is_finite() {
+                    // Checked before anything is set: a refused call changes nothing.
+                    if !crate::model::acceptable(*x) {
                         return Err(format!(
-                            "{} = {x} is not finite (value refused)",
-                            inst.variable_name(*r)
+                            "{} = {x:e} is not finite or exceeds {:e} in magnitude (call refused)",
+                            inst.variable_name(*r),
+                            crate::model::MAX_INPUT
                         ));
                     }
                 }
@@ -1081,10 +1083,12 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
                     inst.variable_name(*r)
                 ));
             }
-            if !x.is_finite() {
+            if !crate::model::acceptable(*x) {
                 return Err(format!(
-                    "derivative of {} = {x} is not finite",
-                    inst.variable_name(*r)
+                    "derivative of {} = {x:e} is not finite or exceeds {:e} in magnitude \
+                     (call refused)",
+                    inst.variable_name(*r),
+                    crate::model::MAX_INPUT
                 ));
             }
             checked.push((q, *x));

@@ -50,8 +50,8 @@ pub const TIME_TOLERANCE: f64 = 1e-10;
 /// (they are at most quadratic in the inputs); larger values are refused like NaN.
 pub const MAX_INPUT: f64 = 1e100;
 
-/// A finite value within [`MAX_INPUT`].
-fn acceptable(value: f64) -> bool {
+/// A finite value within [`MAX_INPUT`]: what an input, input derivative or parameter may be.
+pub fn acceptable(value: f64) -> bool {
     value.is_finite() && value.abs() <= MAX_INPUT
 }
 

@@ -460,6 +460,20 @@ fn every_bad_call_gets_an_error_and_reset_recovers() {
                 "inf input",
                 Box::new(|| fmi2SetReal(c, &VELOCITY, 1, &f64::INFINITY)),
             ),
+            (
+                "huge input",
+                Box::new(|| fmi2SetReal(c, &VELOCITY, 1, &1e300)),
+            ),
+            (
+                "valid then huge input: refused whole",
+                Box::new(|| {
+                    fmi2SetReal(c, [VELOCITY, VELOCITY].as_ptr(), 2, [2.0, 1e300].as_ptr())
+                }),
+            ),
+            (
+                "huge input derivative",
+                Box::new(|| fmi2SetRealInputDerivatives(c, &VELOCITY, 1, &one, &-1e300)),
+            ),
             ("set output", Box::new(|| fmi2SetReal(c, &FORCE, 1, &1.0))),
             (
                 "set calculated",
