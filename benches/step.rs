@@ -97,7 +97,7 @@ fn step(c: &mut Criterion) {
                     *x = phase + i as f64 * 0.1;
                 }
                 k += 1;
-                convolution.push(&velocity, &mut force);
+                convolution.push(&velocity, &mut force).unwrap();
                 black_box(&force);
             })
         },

@@ -70,9 +70,21 @@ impl ConvolutionForce {
         self.velocities.len() / self.dofs.max(1) - 1
     }
 
-    /// Records the velocity `v_k` of the next time point and returns `F_k`.
-    pub fn push(&mut self, velocity: &DVector<f64>, force: &mut DVector<f64>) {
+    /// Records the velocity `v_k` of the next time point and writes `F_k` into `force`.
+    /// Both must have one entry per DOF; otherwise nothing changes and an error is returned.
+    pub fn push(
+        &mut self,
+        velocity: &DVector<f64>,
+        force: &mut DVector<f64>,
+    ) -> Result<(), DiscretizeError> {
         let n = self.dofs;
+        if velocity.len() != n || force.len() != n {
+            return Err(DiscretizeError::Dimensions(format!(
+                "velocity has {} and force {} entries for {n} DOFs",
+                velocity.len(),
+                force.len()
+            )));
+        }
         let slots = self.history() + 1;
         self.newest = (self.newest + 1) % slots;
         self.velocities[self.newest * n..(self.newest + 1) * n]
@@ -92,13 +104,14 @@ impl ConvolutionForce {
                 }
             }
         }
+        Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::discretize::DiscretizationCache;
+    use crate::discretize::discretize;
     use crate::realize::{Branch, Network, NetworkForm, Stage};
 
     fn seed_state_space() -> StateSpace {
@@ -125,8 +138,7 @@ mod tests {
     /// Network force for v(t) = sin(t), exact for the piecewise-linear input (first-order
     /// hold), sampled every `h`.
     fn network_force(ss: &StateSpace, h: f64, steps: usize) -> Vec<f64> {
-        let mut cache = DiscretizationCache::new(ss.a.clone(), ss.b.clone()).unwrap();
-        let d = cache.get(h).unwrap().clone();
+        let d = discretize(&ss.a, &ss.b, h, true).unwrap();
         let mut z = DVector::zeros(ss.state_count());
         let mut out = Vec::with_capacity(steps + 1);
         for k in 0..=steps {
@@ -144,7 +156,8 @@ mod tests {
         let mut f = DVector::zeros(1);
         (0..=steps)
             .map(|k| {
-                conv.push(&DVector::from_element(1, (k as f64 * h).sin()), &mut f);
+                conv.push(&DVector::from_element(1, (k as f64 * h).sin()), &mut f)
+                    .unwrap();
                 f[0]
             })
             .collect()
@@ -184,5 +197,10 @@ mod tests {
         let cb = &ss.c * &ss.b;
         assert!((conv.kernel[0] - cb[(0, 0)]).abs() < 1e-15);
         assert!(ConvolutionForce::new(&ss, 0.0, 10).is_err());
+        // A velocity of the wrong size is refused and leaves the history as it was.
+        let mut conv = conv;
+        let mut f = DVector::zeros(1);
+        assert!(conv.push(&DVector::zeros(2), &mut f).is_err());
+        assert_eq!(conv.filled, 0);
     }
 }

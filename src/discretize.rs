@@ -24,10 +24,9 @@
 //! the 1-norm as in Higham, "The scaling and squaring method for the matrix exponential
 //! revisited" (SIAM J. Matrix Anal. Appl. 26, 2005): backward error below the unit roundoff.
 //!
-//! [`DiscretizationCache`] keeps the last few step sizes (masters usually use one or two).
-//! [`BlockDiscretizationCache`] does the same for a system of independent blocks, each driven
-//! by one scalar input (a network's branches, driven by their speeds `d_b . v`): one small
-//! exponential per block, and a step costs the blocks' own sizes.
+//! [`BlockDiscretizationCache`] keeps the last few step sizes of a system of independent
+//! blocks, each driven by one scalar input (a network's branches, driven by their speeds
+//! `d_b . v`): one small exponential per block, and a step costs the blocks' own sizes.
 
 use nalgebra::DMatrix;
 use std::fmt;
@@ -203,14 +202,10 @@ pub struct Discretization {
     pub gamma0: DMatrix<f64>,
     /// Response to an input ramp `u' s` over the step (present with first-order hold).
     pub gamma1: Option<DMatrix<f64>>,
-    /// `[Phi | Gamma0 | Gamma1]` (Gamma1 only with first-order hold) by its non-zero
-    /// entries: one step is `z+ = step_map [z; u; u']`.
-    pub step_map: LinearMap,
 }
 
 /// A matrix stored by its non-zero entries (compressed rows): `y = M x` costs one multiply
-/// per non-zero. Networks of independent chains give block-diagonal `Phi`, whose exact
-/// zeros (kept exact by the exponential) are skipped.
+/// per non-zero (the model's branch forces `C_r z`, one short row per branch).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinearMap {
     rows: usize,
@@ -285,16 +280,8 @@ pub fn discretize(
     if !(step.is_finite() && step > 0.0) {
         return Err(DiscretizeError::BadStepSize(step));
     }
+    check_system(a, b)?;
     let ns = a.nrows();
-    if a.ncols() != ns || b.nrows() != ns {
-        return Err(DiscretizeError::Dimensions(format!(
-            "A is {}x{}, B is {}x{}",
-            a.nrows(),
-            a.ncols(),
-            b.nrows(),
-            b.ncols()
-        )));
-    }
     let m = b.ncols();
     let size = if first_order_hold { ns + 2 * m } else { ns + m };
     let mut big = DMatrix::<f64>::zeros(size, size);
@@ -312,76 +299,21 @@ pub fn discretize(
         gamma0: e.view((0, ns), (ns, m)).into_owned(),
         // big = h M with M the unscaled augmented matrix, so this block is exactly Gamma1.
         gamma1: first_order_hold.then(|| e.view((0, ns + m), (ns, m)).into_owned()),
-        step_map: LinearMap::new(&e.view((0, 0), (ns, size)).into_owned()),
     })
 }
 
-/// Discretizations of one system for the last few step sizes (least recently used goes).
-#[derive(Clone, Debug)]
-pub struct DiscretizationCache {
-    a: DMatrix<f64>,
-    b: DMatrix<f64>,
-    capacity: usize,
-    /// Most recently used last.
-    entries: Vec<Discretization>,
-}
-
-impl DiscretizationCache {
-    /// Number of step sizes kept by default.
-    pub const DEFAULT_CAPACITY: usize = 4;
-
-    /// A cache for `z' = A z + B u`.
-    pub fn new(a: DMatrix<f64>, b: DMatrix<f64>) -> Result<Self, DiscretizeError> {
-        if a.nrows() != a.ncols() || b.nrows() != a.nrows() {
-            return Err(DiscretizeError::Dimensions(format!(
-                "A is {}x{}, B is {}x{}",
-                a.nrows(),
-                a.ncols(),
-                b.nrows(),
-                b.ncols()
-            )));
-        }
-        Ok(DiscretizationCache {
-            a,
-            b,
-            capacity: Self::DEFAULT_CAPACITY,
-            entries: Vec::with_capacity(Self::DEFAULT_CAPACITY),
-        })
+/// `A` square and `B` with as many rows.
+fn check_system(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Result<(), DiscretizeError> {
+    if a.nrows() != a.ncols() || b.nrows() != a.nrows() {
+        return Err(DiscretizeError::Dimensions(format!(
+            "A is {}x{}, B is {}x{}",
+            a.nrows(),
+            a.ncols(),
+            b.nrows(),
+            b.ncols()
+        )));
     }
-
-    /// State matrix A.
-    pub fn a(&self) -> &DMatrix<f64> {
-        &self.a
-    }
-
-    /// Input matrix B.
-    pub fn b(&self) -> &DMatrix<f64> {
-        &self.b
-    }
-
-    /// Number of cached step sizes.
-    pub fn len(&self) -> usize {
-        self.entries.len()
-    }
-
-    /// True when nothing is cached.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
-
-    /// The discretization for step h, computed once per step size while it stays among the
-    /// last few used. It always carries `Gamma1`, so that the matrices (to the last bit) do
-    /// not depend on whether the master ever used first-order hold.
-    pub fn get(&mut self, step: f64) -> Result<&Discretization, DiscretizeError> {
-        let (a, b) = (&self.a, &self.b);
-        recently_used(
-            &mut self.entries,
-            self.capacity,
-            step,
-            |d| d.step,
-            || discretize(a, b, step, true),
-        )
-    }
+    Ok(())
 }
 
 /// The entry for `step` in a most-recently-used-last list, made and inserted (dropping the
@@ -508,6 +440,9 @@ impl Block<'_> {
 }
 
 impl BlockDiscretizationCache {
+    /// Number of step sizes kept (masters usually use one or two).
+    pub const DEFAULT_CAPACITY: usize = 4;
+
     /// The blocks of `z' = A z + B u` (B: one column per block). Refused unless the blocks
     /// partition the states, `A` couples no two blocks and column j of `B` is zero outside
     /// block j.
@@ -516,13 +451,11 @@ impl BlockDiscretizationCache {
         b: &DMatrix<f64>,
         blocks: &[Vec<usize>],
     ) -> Result<Self, DiscretizeError> {
+        check_system(a, b)?;
         let ns = a.nrows();
-        if a.ncols() != ns || b.nrows() != ns || b.ncols() != blocks.len() {
+        if b.ncols() != blocks.len() {
             return Err(DiscretizeError::Dimensions(format!(
-                "A is {}x{}, B is {}x{}, {} blocks",
-                a.nrows(),
-                a.ncols(),
-                b.nrows(),
+                "B has {} columns for {} blocks",
                 b.ncols(),
                 blocks.len()
             )));
@@ -565,8 +498,8 @@ impl BlockDiscretizationCache {
         Ok(BlockDiscretizationCache {
             state_count: ns,
             blocks,
-            capacity: DiscretizationCache::DEFAULT_CAPACITY,
-            entries: Vec::with_capacity(DiscretizationCache::DEFAULT_CAPACITY),
+            capacity: Self::DEFAULT_CAPACITY,
+            entries: Vec::with_capacity(Self::DEFAULT_CAPACITY),
         })
     }
 
@@ -580,8 +513,9 @@ impl BlockDiscretizationCache {
         self.blocks.len()
     }
 
-    /// The discretization for step h (exact, first-order hold included), cached per step
-    /// size like [`DiscretizationCache::get`].
+    /// The discretization for step h, computed once per step size while it stays among the
+    /// last few used. It always carries `Gamma1`, so that the matrices (to the last bit) do
+    /// not depend on whether the master ever used first-order hold.
     pub fn get(&mut self, step: f64) -> Result<&BlockDiscretization, DiscretizeError> {
         let blocks = &self.blocks;
         recently_used(
@@ -776,30 +710,15 @@ mod tests {
     }
 
     #[test]
-    fn the_sparse_step_map_equals_the_dense_blocks_and_skips_exact_zeros() {
-        // Two independent copies of the seed chain: block-diagonal A.
-        let (a1, b1) = seed_system();
-        let mut a = DMatrix::<f64>::zeros(8, 8);
-        let mut b = DMatrix::<f64>::zeros(8, 2);
-        a.view_mut((0, 0), (4, 4)).copy_from(&a1);
-        a.view_mut((4, 4), (4, 4)).copy_from(&(&a1 * 2.0));
-        b.view_mut((0, 0), (4, 1)).copy_from(&b1);
-        b.view_mut((4, 1), (4, 1)).copy_from(&b1);
-        let d = discretize(&a, &b, 0.37, true).unwrap();
-        // Phi: 2 blocks of 16; Gamma0, Gamma1: 4 per column (at most).
-        assert!(
-            d.step_map.non_zeros() <= 2 * 16 + 2 * 8,
-            "{}",
-            d.step_map.non_zeros()
-        );
-        let x: Vec<f64> = (0..12).map(|k| (k as f64 * 0.7).sin()).collect();
-        let mut y = vec![0.0; 8];
-        d.step_map.apply(&x, &mut y);
-        let z = DVector::from_column_slice(&x[..8]);
-        let u = DVector::from_column_slice(&x[8..10]);
-        let du = DVector::from_column_slice(&x[10..12]);
-        let dense = &d.phi * z + &d.gamma0 * u + d.gamma1.as_ref().unwrap() * du;
-        for i in 0..8 {
+    fn linear_map_equals_the_dense_product_and_skips_exact_zeros() {
+        let (a, _) = seed_system();
+        let map = LinearMap::new(&a);
+        assert_eq!(map.non_zeros(), a.iter().filter(|x| **x != 0.0).count());
+        let x: Vec<f64> = (0..4).map(|k| (k as f64 * 0.7).sin()).collect();
+        let mut y = vec![0.0; 4];
+        map.apply(&x, &mut y);
+        let dense = &a * DVector::from_column_slice(&x);
+        for i in 0..4 {
             assert!((y[i] - dense[i]).abs() < 1e-15, "{i}");
         }
     }
@@ -825,14 +744,18 @@ mod tests {
     #[test]
     fn cache_keeps_recent_steps() {
         let (a, b) = seed_system();
-        let mut cache = DiscretizationCache::new(a.clone(), b.clone()).unwrap();
+        let mut cache = BlockDiscretizationCache::new(&a, &b, &[vec![0, 1, 2, 3]]).unwrap();
         let first = cache.get(0.01).unwrap().clone();
-        assert_eq!(first, discretize(&a, &b, 0.01, true).unwrap());
-        assert_eq!(cache.len(), 1);
+        let full = discretize(&a, &b, 0.01, true).unwrap();
+        assert_eq!(first.phi, full.phi.transpose().as_slice());
+        assert_eq!(cache.entries.len(), 1);
         for k in 1..=10 {
             cache.get(0.01 * k as f64).unwrap();
         }
-        assert_eq!(cache.len(), DiscretizationCache::DEFAULT_CAPACITY);
+        assert_eq!(
+            cache.entries.len(),
+            BlockDiscretizationCache::DEFAULT_CAPACITY
+        );
         assert!(cache.get(-1.0).is_err());
     }
 

@@ -425,15 +425,9 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
     } else {
         problem.fit_single_dof(params, tolerance)?
     };
-    let mut network = network;
-    let limit = problem.rate_limit();
-    if params.form == NetworkForm::Coupled {
-        // Over-fitted branches carry no information in the band: dropped (the report then
-        // measures the network that remains).
-        network.branches.retain(|b| branch_rate(b) <= limit);
-    }
+    // Every form keeps its networks within the rate limit; stated once for all of them.
     let rate = fastest_rate(&network);
-    if rate > limit {
+    if rate > problem.rate_limit() {
         return Err(problem.over_fit_error(order, rate));
     }
     network.validate().map_err(|e| {
@@ -468,6 +462,24 @@ fn distinct_dynamics(network: &Network) -> usize {
         }
     }
     seen.len()
+}
+
+/// The DOF scales of the error measure (module docs): `s_i = max |A~_ii|` over the given
+/// matrices, raised to [`SCALE_FLOOR`] times the largest for a DOF that moves (almost) no
+/// water. `None` when every `s_i` is zero or NaN (or no matrix is given).
+pub fn dof_scales(added_mass: &[DMatrix<Complex64>]) -> Option<DVector<f64>> {
+    let n = added_mass.first()?.nrows();
+    let scale = DVector::from_fn(n, |i, _| {
+        added_mass
+            .iter()
+            .map(|m| m[(i, i)].norm())
+            .fold(0.0, f64::max)
+    });
+    let largest = scale.max();
+    if largest.is_nan() || largest <= 0.0 {
+        return None;
+    }
+    Some(scale.map(|s| s.max(SCALE_FLOOR * largest)))
 }
 
 /// Fastest time scale a fitted network may have, as a multiple of the band's top frequency.
@@ -644,10 +656,13 @@ impl Problem {
         Ok((distinct_dynamics(&network), network, iterations))
     }
 
-    /// Drops the branches that do not matter: in order of their largest normalized
-    /// contribution `max_band |G_b| max_i d_i^2 / s_i`, each one whose removal keeps the
-    /// error within the tolerance (or, if it is not met, does not raise it).
+    /// Drops the branches that do not matter: first every over-fitted one (rates beyond
+    /// [`FASTEST_RATE_OVER_BAND`], no information in the band), then, in order of their
+    /// largest normalized contribution `max_band |G_b| max_i d_i^2 / s_i`, each one whose
+    /// removal keeps the error within the tolerance (or, if it is not met, does not raise it).
     fn prune(&self, mut network: Network, tolerance: f64) -> Network {
+        let limit = self.rate_limit();
+        network.branches.retain(|b| branch_rate(b) <= limit);
         let error = self.max_relative_error(&network);
         let allowed = error.max(tolerance);
         let contribution = |b: &Branch| {
@@ -864,17 +879,9 @@ impl Problem {
         };
         let added_mass_inf_adjustment = (&added_mass_inf - a).amax();
 
-        let scale = DVector::from_fn(n, |i, _| {
-            raw.iter().map(|m| m[(i, i)].norm()).fold(0.0, f64::max)
-        });
-        let largest_scale = scale.max();
-        if largest_scale.is_nan() || largest_scale <= 0.0 {
-            return Err(IdentifyError::InvalidData(
-                "the added mass is zero over the band".into(),
-            ));
-        }
-        // A DOF that moves (almost) no water gets the floor scale: fitted in absolute terms.
-        let scale = scale.map(|s| s.max(SCALE_FLOOR * largest_scale));
+        let scale = dof_scales(&raw).ok_or_else(|| {
+            IdentifyError::InvalidData("the added mass is zero over the band".into())
+        })?;
         let target = raw
             .iter()
             .map(|m| {

@@ -23,27 +23,25 @@ fn default_band() -> (f64, f64) {
     ((0.05 * G).sqrt(), (5.0 * G).sqrt())
 }
 
-fn model_of(network: &Network) -> Model {
-    let resources = Resources::new(
-        network.to_xml_string(),
-        None,
-        Resources::options_text(false),
-    )
-    .expect("resources");
-    Model::from_resources(&resources).expect("model")
-}
-
-/// Median wall time (ns) of one set-velocities + step + get-forces, over 5 batches; the
-/// error when the network cannot be stepped (a degenerate fit, see the report).
-fn try_step_cost(network: &Network) -> Result<f64, String> {
+fn try_model(network: &Network) -> Result<Model, String> {
     let resources = Resources::new(
         network.to_xml_string(),
         None,
         Resources::options_text(false),
     )
     .map_err(|e| e.to_string())?;
-    let mut model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
-    model.step(0.0, 0.01).map_err(|e| e.to_string())?;
+    Model::from_resources(&resources).map_err(|e| e.to_string())
+}
+
+fn model_of(network: &Network) -> Model {
+    try_model(network).expect("model")
+}
+
+/// [`step_cost`], or the error when the network cannot be stepped (a degenerate fit).
+fn try_step_cost(network: &Network) -> Result<f64, String> {
+    try_model(network)?
+        .step(0.0, 0.01)
+        .map_err(|e| e.to_string())?;
     Ok(step_cost(network))
 }
 
@@ -422,22 +420,19 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     let history = 6000;
     let n = ss.input_count();
     let steps = 6000;
-    let input = |k: usize, i: usize| {
-        let t = k as f64 * h;
+    // Velocity of DOF i at time t: smooth, ramped in over 5 s.
+    let signal = |t: f64, i: usize| {
         let ramp = (t / 5.0).min(1.0);
         ramp * (0.8 + 0.3 * i as f64) * (1.3 * t + i as f64).sin()
     };
+    let input = |k: usize, i: usize| signal(k as f64 * h, i);
     // Reference: the network with first-order hold at h / 8 (O(h^2) from the smooth input).
     let network_forces = |sub: usize, first_order: bool| -> Vec<f64> {
         let mut model = model_of(&full.network);
         let mut out = Vec::with_capacity(steps + 1);
         let hs = h / sub as f64;
         for k in 0..=steps * sub {
-            let value = |k: usize, i: usize| {
-                let t = k as f64 * hs;
-                let ramp = (t / 5.0).min(1.0);
-                ramp * (0.8 + 0.3 * i as f64) * (1.3 * t + i as f64).sin()
-            };
+            let value = |k: usize, i: usize| signal(k as f64 * hs, i);
             for i in 0..n {
                 model
                     .set_value(Quantity::Velocity(i), value(k, i))
@@ -463,7 +458,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     let mut convolution_run = Vec::with_capacity((steps + 1) * n);
     for k in 0..=steps {
         let v = DVector::from_fn(n, |i, _| input(k, i));
-        convolution.push(&v, &mut force);
+        convolution.push(&v, &mut force).expect("convolution");
         convolution_run.extend(force.iter().copied());
     }
     let scale = reference.iter().map(|x| x.abs()).fold(0.0, f64::max);
@@ -474,7 +469,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
         let start = Instant::now();
         for k in 0..500 {
             let v = DVector::from_fn(n, |i, _| input(k, i));
-            convolution.push(&v, &mut force);
+            convolution.push(&v, &mut force).expect("convolution");
         }
         times.push(start.elapsed().as_secs_f64() * 1e9 / 500.0);
     }

@@ -15,7 +15,7 @@
 //! force on the kept DOFs that motion in DOF j would cause and that the FMU does not model.
 
 use crate::pipeline::Built;
-use hydrofmu::identify::FrequencyResponse;
+use hydrofmu::identify::{self, FrequencyResponse};
 use std::fmt;
 
 /// Largest error over a frequency range.
@@ -136,17 +136,13 @@ fn left_out(full: &FrequencyResponse, kept: &[String], band: (f64, f64)) -> Vec<
         })
         .collect();
     let n = full.dof_names.len();
-    let diagonal: Vec<f64> = (0..n)
-        .map(|i| {
-            in_band
-                .iter()
-                .map(|&k| full.added_mass[k][(i, i)].norm())
-                .fold(0.0, f64::max)
-        })
+    let band_data: Vec<_> = in_band
+        .iter()
+        .map(|&k| full.added_mass[k].clone())
         .collect();
-    // The fit's floor for DOFs that move no water.
-    let floor = hydrofmu::identify::SCALE_FLOOR * diagonal.iter().copied().fold(0.0, f64::max);
-    let s: Vec<f64> = diagonal.iter().map(|d| d.max(floor)).collect();
+    let Some(s) = identify::dof_scales(&band_data) else {
+        return Vec::new();
+    };
     let kept_index: Vec<usize> = (0..n)
         .filter(|&i| kept.contains(&full.dof_names[i]))
         .collect();
