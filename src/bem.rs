@@ -43,7 +43,7 @@
 //! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is the seed's
 //! plain method.
 
-use crate::green::{FreeSurface, GreenFunction, PanelIntegral};
+use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral};
 use crate::panels::{Mesh, Panel};
 use faer::complex_native::c64;
 use faer::dyn_stack::{GlobalPodBuffer, PodStack};
@@ -83,15 +83,58 @@ pub struct RadiationSolution {
 
 /// A solve that failed.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BemError(pub String);
+#[non_exhaustive]
+pub enum BemError {
+    /// The Green function refused the free-surface condition.
+    Green(GreenError),
+    /// The influence matrix could not be factorized.
+    Singular {
+        /// The free-surface condition of the solve.
+        surface: FreeSurface,
+        /// Body panels.
+        body_panels: usize,
+        /// Interior lid panels.
+        lid_panels: usize,
+    },
+    /// The solve gave a NaN or infinite added mass.
+    NonFinite {
+        /// The free-surface condition of the solve.
+        surface: FreeSurface,
+    },
+}
 
 impl fmt::Display for BemError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "panel method: {}", self.0)
+        f.write_str("panel method: ")?;
+        match self {
+            BemError::Green(e) => write!(f, "{e}"),
+            BemError::Singular {
+                surface,
+                body_panels,
+                lid_panels,
+            } => write!(
+                f,
+                "singular influence matrix for {surface:?} ({body_panels} body and {lid_panels} lid panels)"
+            ),
+            BemError::NonFinite { surface } => write!(f, "non-finite added mass for {surface:?}"),
+        }
     }
 }
 
-impl std::error::Error for BemError {}
+impl std::error::Error for BemError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            BemError::Green(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<GreenError> for BemError {
+    fn from(e: GreenError) -> Self {
+        BemError::Green(e)
+    }
+}
 
 fn to_faer(z: Complex64) -> c64 {
     c64 { re: z.re, im: z.im }
@@ -139,8 +182,7 @@ impl Problem {
     /// # Errors
     /// Never for a valid mesh; kept fallible for the Green function's checks.
     pub fn new(mesh: Mesh) -> Result<Self, BemError> {
-        let green =
-            GreenFunction::new(FreeSurface::Dirichlet).map_err(|e| BemError(e.to_string()))?;
+        let green = GreenFunction::new(FreeSurface::Dirichlet)?;
         let unknowns = mesh.body.len() + mesh.lid.len();
         let mirror = mirror_map(&mesh);
         let dirichlet = influence(&mesh, mirror.as_deref(), unknowns, |x, a, b| {
@@ -168,7 +210,7 @@ impl Problem {
         irregular: IrregularFrequencies,
     ) -> Result<RadiationSolution, BemError> {
         let mesh = &self.mesh;
-        let green = GreenFunction::new(surface).map_err(|e| BemError(e.to_string()))?;
+        let green = GreenFunction::new(surface)?;
         let use_lid = matches!(surface, FreeSurface::Wave { .. })
             && irregular == IrregularFrequencies::RemoveWithLid
             && !mesh.lid.is_empty();
@@ -325,10 +367,10 @@ fn solve_system(
     let mut assembly_time = start.elapsed();
 
     let start = Instant::now();
-    let strengths = solve_dense(system, rhs).ok_or_else(|| {
-        BemError(format!(
-            "singular influence matrix for {surface:?} ({body_count} body and {lid_count} lid panels)"
-        ))
+    let strengths = solve_dense(system, rhs).ok_or(BemError::Singular {
+        surface,
+        body_panels: body_count,
+        lid_panels: lid_count,
     })?;
     let factorization_time = start.elapsed();
 
@@ -348,7 +390,7 @@ fn solve_system(
         .iter()
         .any(|z| !z.re.is_finite() || !z.im.is_finite())
     {
-        return Err(BemError(format!("non-finite added mass for {surface:?}")));
+        return Err(BemError::NonFinite { surface });
     }
     let diagonal_scale = (0..dof_count)
         .map(|k| added_mass[(k, k)].norm())

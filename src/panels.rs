@@ -186,13 +186,45 @@ impl Mesh {
 /// Fewest panels per wavelength before [`Mesh::wavelength_warning`] warns.
 pub const PANELS_PER_WAVELENGTH: f64 = 10.0;
 
-/// A discretization request that cannot be met.
+/// Why a hull cannot be discretized.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PanelError(pub String);
+#[non_exhaustive]
+pub enum PanelError {
+    /// Fewer than 4 body panels requested.
+    TooFewPanels {
+        /// The requested body panel count.
+        requested: usize,
+    },
+    /// The clustering parameter lies outside [0, 1].
+    Clustering(f64),
+    /// The lid density is not finite and positive.
+    LidDensity(f64),
+    /// Corners of the contour fall between too few panels.
+    UnresolvedCorners {
+        /// The requested body panel count.
+        panels: usize,
+        /// The contour's corner count.
+        corners: usize,
+    },
+    /// A panel of zero (or non-finite) length.
+    ZeroLengthPanel(usize),
+}
 
 impl fmt::Display for PanelError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "panel discretization: {}", self.0)
+        f.write_str("panel discretization: ")?;
+        match self {
+            PanelError::TooFewPanels { requested } => {
+                write!(f, "{requested} panels requested; at least 4 are needed")
+            }
+            PanelError::Clustering(c) => write!(f, "clustering {c} is outside [0, 1]"),
+            PanelError::LidDensity(d) => write!(f, "lid density {d} must be positive"),
+            PanelError::UnresolvedCorners { panels, corners } => write!(
+                f,
+                "{panels} panels cannot resolve the hull's {corners} contour corners; raise the panel count"
+            ),
+            PanelError::ZeroLengthPanel(l) => write!(f, "panel {l} has zero length"),
+        }
     }
 }
 
@@ -259,22 +291,15 @@ fn snap_to_breakpoints(nodes: &mut [f64], breakpoints: &[f64]) {
 /// contour that degenerates into zero-length panels.
 pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError> {
     if params.body_panels < 4 {
-        return Err(PanelError(format!(
-            "{} panels requested; at least 4 are needed",
-            params.body_panels
-        )));
+        return Err(PanelError::TooFewPanels {
+            requested: params.body_panels,
+        });
     }
     if !(0.0..=1.0).contains(&params.clustering) {
-        return Err(PanelError(format!(
-            "clustering {} is outside [0, 1]",
-            params.clustering
-        )));
+        return Err(PanelError::Clustering(params.clustering));
     }
     if !(params.lid_density.is_finite() && params.lid_density > 0.0) {
-        return Err(PanelError(format!(
-            "lid density {} must be positive",
-            params.lid_density
-        )));
+        return Err(PanelError::LidDensity(params.lid_density));
     }
     let closed = hull.is_closed();
     // Node positions t are monotone in [0, 1]; `parameter(t)` is the contour parameter.
@@ -320,11 +345,10 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         nodes[last] = 1.0;
     }
     if nodes.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(PanelError(format!(
-            "{} panels cannot resolve the hull's {} contour corners; raise the panel count",
-            params.body_panels,
-            breakpoints.len()
-        )));
+        return Err(PanelError::UnresolvedCorners {
+            panels: params.body_panels,
+            corners: breakpoints.len(),
+        });
     }
     let dof_count = hull.dof_names().len();
     let mut body = Vec::with_capacity(params.body_panels);
@@ -332,7 +356,7 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
     for (l, w) in nodes.windows(2).enumerate() {
         let panel = Panel::new(hull.point(parameter(w[0])), hull.point(parameter(w[1])));
         if !(panel.length > 0.0 && panel.length.is_finite()) {
-            return Err(PanelError(format!("panel {l} has zero length")));
+            return Err(PanelError::ZeroLengthPanel(l));
         }
         let s_mid = parameter(0.5 * (w[0] + w[1]));
         for j in 0..dof_count {

@@ -13,7 +13,7 @@
 use crate::bem::{BemError, IrregularFrequencies, Problem, RadiationSolution};
 use crate::green::FreeSurface;
 use crate::hull::Hull;
-use crate::panels::{self, Mesh, PanelParams};
+use crate::panels::{self, Mesh, PanelError, PanelParams};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -58,14 +58,10 @@ impl Default for SweepParams {
 /// `min == max`).
 pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError> {
     if !(min.is_finite() && max.is_finite() && min > 0.0) {
-        return Err(SweepError(format!(
-            "kR grid {min}:{max}: kR must be finite and > 0"
-        )));
+        return Err(SweepError::Grid { min, max, count });
     }
     if max < min || count == 0 || (count == 1 && max != min) {
-        return Err(SweepError(format!(
-            "kR grid {min}:{max}:{count}: need MIN <= MAX and COUNT >= 2 (or MIN = MAX with COUNT = 1)"
-        )));
+        return Err(SweepError::Grid { min, max, count });
     }
     if count == 1 {
         return Ok(vec![min]);
@@ -108,27 +104,24 @@ impl Solver {
     /// below 4 panels.
     pub fn new(hull: &Hull, panels: &PanelParams, levels: usize) -> Result<Self, SweepError> {
         if levels == 0 {
-            return Err(SweepError(
-                "at least one discretization level is needed".into(),
-            ));
+            return Err(SweepError::NoLevels);
         }
         let problems = (0..levels)
             .map(|level| {
                 let count = panels.body_panels >> level;
                 if level > 0 && count < 4 {
-                    return Err(SweepError(format!(
-                        "{} panels are too few for {levels} extrapolation levels (the coarsest \
-                         mesh would have {count}); raise --panels",
-                        panels.body_panels
-                    )));
+                    return Err(SweepError::TooFewPanelsForLevels {
+                        panels: panels.body_panels,
+                        levels,
+                        coarsest: count,
+                    });
                 }
                 let params = PanelParams {
                     body_panels: count,
                     ..*panels
                 };
-                let mesh =
-                    panels::discretize(hull, &params).map_err(|e| SweepError(e.to_string()))?;
-                Problem::new(mesh).map_err(|e| SweepError(e.to_string()))
+                let mesh = panels::discretize(hull, &params).map_err(SweepError::Mesh)?;
+                Problem::new(mesh).map_err(SweepError::Problem)
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self { problems })
@@ -183,15 +176,97 @@ impl Solver {
 
 /// A sweep that cannot start.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SweepError(pub String);
+#[non_exhaustive]
+pub enum SweepError {
+    /// A kR grid specification that gives no valid grid.
+    Grid {
+        /// Smallest kR.
+        min: f64,
+        /// Largest kR.
+        max: f64,
+        /// Point count.
+        count: usize,
+    },
+    /// A kR in the grid that is not finite and positive.
+    Frequency(f64),
+    /// No discretization level.
+    NoLevels,
+    /// The coarsest extrapolation mesh would have fewer than 4 panels.
+    TooFewPanelsForLevels {
+        /// The requested body panel count.
+        panels: usize,
+        /// The extrapolation levels.
+        levels: usize,
+        /// Panels of the coarsest mesh.
+        coarsest: usize,
+    },
+    /// The hull cannot be discretized.
+    Mesh(PanelError),
+    /// The panel method failed to prepare a mesh.
+    Problem(BemError),
+    /// A thread count of 0, or a thread pool that cannot start.
+    Threads {
+        /// The requested thread count.
+        threads: usize,
+        /// What the thread pool reported (empty for a count of 0).
+        message: String,
+    },
+    /// A frequency limit (A_inf or A(0)) failed: without A_inf there is nothing to fit.
+    Limit {
+        /// The limit's free-surface condition.
+        surface: FreeSurface,
+        /// Why it failed.
+        cause: BemError,
+    },
+}
 
 impl fmt::Display for SweepError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        match self {
+            SweepError::Grid { min, max, count } if min.is_finite() && max.is_finite() && *min > 0.0 => write!(
+                f,
+                "kR grid {min}:{max}:{count}: need MIN <= MAX and COUNT >= 2 (or MIN = MAX with COUNT = 1)"
+            ),
+            SweepError::Grid { min, max, .. } => {
+                write!(f, "kR grid {min}:{max}: kR must be finite and > 0")
+            }
+            SweepError::Frequency(bad) => {
+                write!(f, "kR = {bad} in the grid: every kR must be finite and > 0")
+            }
+            SweepError::NoLevels => f.write_str("at least one discretization level is needed"),
+            SweepError::TooFewPanelsForLevels {
+                panels,
+                levels,
+                coarsest,
+            } => write!(
+                f,
+                "{panels} panels are too few for {levels} extrapolation levels (the coarsest \
+                 mesh would have {coarsest}); raise --panels"
+            ),
+            SweepError::Mesh(e) => write!(f, "{e}"),
+            SweepError::Problem(e) => write!(f, "{e}"),
+            SweepError::Threads { threads: 0, .. } => {
+                f.write_str("the thread count must be at least 1")
+            }
+            SweepError::Threads { threads, message } => {
+                write!(f, "cannot start {threads} threads: {message}")
+            }
+            SweepError::Limit { surface, cause } => {
+                write!(f, "the {surface:?} limit failed: {cause}")
+            }
+        }
     }
 }
 
-impl std::error::Error for SweepError {}
+impl std::error::Error for SweepError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SweepError::Mesh(e) => Some(e),
+            SweepError::Problem(e) | SweepError::Limit { cause: e, .. } => Some(e),
+            _ => None,
+        }
+    }
+}
 
 /// Wall time spent in each stage, summed over all frequencies (and threads).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -248,12 +323,13 @@ pub fn run(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepResult, SweepError> {
     if params.threads == 0 {
-        return Err(SweepError("the thread count must be at least 1".into()));
+        return Err(SweepError::Threads {
+            threads: 0,
+            message: String::new(),
+        });
     }
     if let Some(bad) = params.kr.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
-        return Err(SweepError(format!(
-            "kR = {bad} in the grid: every kR must be finite and > 0"
-        )));
+        return Err(SweepError::Frequency(*bad));
     }
     let solver = Solver::new(hull, &params.panels, params.extrapolation_levels)?;
     let mesh = solver.mesh();
@@ -262,12 +338,15 @@ pub fn run(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(params.threads)
         .build()
-        .map_err(|e| SweepError(format!("cannot start {} threads: {e}", params.threads)))?;
+        .map_err(|e| SweepError::Threads {
+            threads: params.threads,
+            message: e.to_string(),
+        })?;
 
     let limit = |surface| {
         solver
             .solve(surface, IrregularFrequencies::Keep)
-            .map_err(|e| SweepError(format!("the {surface:?} limit failed: {e}")))
+            .map_err(|cause| SweepError::Limit { surface, cause })
     };
     let infinite = limit(FreeSurface::Dirichlet)?;
     let zero = limit(FreeSurface::RigidLid)?;
@@ -492,7 +571,11 @@ mod tests {
         let calls = AtomicUsize::new(0);
         let solve_at = |k: f64| {
             if k == 0.3 {
-                Err(BemError("singular influence matrix".into()))
+                Err(BemError::Singular {
+                    surface: FreeSurface::Wave { wavenumber: k },
+                    body_panels: 4,
+                    lid_panels: 0,
+                })
             } else {
                 Ok(RadiationSolution {
                     added_mass: DMatrix::from_element(1, 1, Complex64::new(k, 0.0)),
