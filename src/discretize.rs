@@ -33,6 +33,7 @@ use std::fmt;
 
 /// Why a step could not be discretized.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum DiscretizeError {
     /// The step size is not a finite positive number.
     BadStepSize(f64),
