@@ -29,5 +29,7 @@ pub mod model_description;
 pub mod panels;
 pub mod plot;
 pub mod realize;
+pub mod scene;
 pub mod sweep;
+pub mod units;
 pub mod variables;

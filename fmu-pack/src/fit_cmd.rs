@@ -1,10 +1,14 @@
 //! `fmu-pack fit`: identify the equivalent network of a hull and report it.
 
-use crate::pipeline::{self, Band, Built, FitRequest};
+use crate::pipeline::{self, Built};
 use crate::sweep_cmd;
 use clap::Args;
+use hydrofmu::hull::Hull;
 use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::realize::NetworkForm;
+use hydrofmu::scene::Scene;
+use hydrofmu::sweep::SweepParams;
+use hydrofmu::units;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -47,35 +51,41 @@ pub fn parse_form(name: &str) -> Result<NetworkForm, String> {
         .ok_or_else(|| format!("--form '{name}': expected series_chain, parallel_bank or coupled"))
 }
 
-/// Builds the fit request from the command line.
-pub fn request(
+/// The scene of `fmu-pack fit`: every DOF of `hull` (the `--dofs` of the hull argument
+/// already applied), with the band and fit options as the command line gives them.
+pub fn scene(
+    hull: Hull,
+    sweep: SweepParams,
     band: &str,
     tolerance: Option<f64>,
     order: Option<usize>,
     form: Option<&str>,
     max_step: Option<f64>,
-) -> Result<FitRequest, String> {
-    Ok(FitRequest {
-        band: Band::parse(band)?,
+) -> Result<Scene, String> {
+    Ok(Scene {
+        band: pipeline::parse_band(band)?,
         tolerance,
         order,
         form: form.map(parse_form).transpose()?,
         max_step,
-        dofs: None,
+        sweep,
+        ..Scene::new(hull)
     })
 }
 
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
-    let (hull, depth, sweep_params) = args.sweep.resolve()?;
-    let request = request(
+    let (hull, sweep_params) = args.sweep.resolve()?;
+    let scene = scene(
+        hull,
+        sweep_params,
         &args.band,
         args.tolerance,
         args.order,
         args.form.as_deref(),
         args.max_step,
     )?;
-    let built = pipeline::build_network(&hull, depth, &sweep_params, &request)?;
+    let built = pipeline::build_network(scene)?;
     if let Some(path) = &args.network_out {
         built
             .fit
@@ -97,7 +107,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
 /// The human-readable report.
 pub fn text(built: &Built) -> String {
     let fit = &built.fit;
-    let names = &built.response.dof_names;
+    let names = &built.response.fitted.dof_names;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -117,7 +127,7 @@ pub fn text(built: &Built) -> String {
         fit.tolerance,
         if fit.tolerance_met { "met" } else { "NOT met" }
     );
-    if let Some(nyquist) = built.nyquist_cut {
+    if let Some(nyquist) = built.scene.nyquist_cut() {
         let _ = writeln!(
             out,
             "band cut at the Nyquist frequency {nyquist:.4} rad/s of --max-step {:.4} s",
@@ -168,7 +178,7 @@ pub fn text(built: &Built) -> String {
 /// The report as JSON.
 pub fn json(built: &Built) -> String {
     let fit = &built.fit;
-    let names = &built.response.dof_names;
+    let names = &built.response.fitted.dof_names;
     let matrix = |m: &nalgebra::DMatrix<f64>| {
         let rows: Vec<String> = (0..m.nrows())
             .map(|i| {
@@ -257,10 +267,10 @@ pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, 
 /// scale is nonzero: data (markers) and network (lines), real and imaginary parts, against kR.
 /// Returns `(file name, SVG text)` pairs.
 pub fn plots(built: &Built) -> Vec<(String, String)> {
-    let response = &built.response;
+    let response = &built.response.fitted;
     let radius = built.sweep.reference_half_beam;
     let g = response.g;
-    let kr = |omega: f64| omega * omega * radius / g;
+    let kr = |omega: f64| units::kr_from_omega(omega, radius, g);
     let names = &response.dof_names;
     let mut out = Vec::new();
     for i in 0..names.len() {

@@ -6,32 +6,27 @@ use std::path::Path;
 /// Default centre depth over radius of the built-in `circle` when `--depth` is not given.
 pub const DEFAULT_CIRCLE_DEPTH: f64 = 2.0;
 
-/// Resolves `spec` into a hull, keeping only `dofs` when given.
-///
-/// Returns the hull and, for the built-in circles, the centre depth over radius
-/// (0 for the semicircle).
+/// Resolves `spec` into a hull, keeping only `dofs` when given. `depth` is the centre depth
+/// over radius H/R of the built-in circle (the hull knows it: [`Hull::depth_ratio`]).
 pub fn resolve(
     spec: &str,
     radius: f64,
     depth: Option<f64>,
     dofs: Option<&str>,
-) -> Result<(Hull, Option<f64>), String> {
+) -> Result<Hull, String> {
     if !(radius.is_finite() && radius > 0.0) {
         return Err(format!(
             "--radius {radius}: the radius must be finite and > 0"
         ));
     }
-    let (hull, depth) = match spec {
+    let hull = match spec {
         "semicircle" => {
             if let Some(d) = depth.filter(|d| *d != 0.0) {
                 return Err(format!(
                     "--depth {d} applies to the circle; the semicircle has H/R = 0"
                 ));
             }
-            (
-                Hull::semicircle(radius).map_err(|e| e.to_string())?,
-                Some(0.0),
-            )
+            Hull::semicircle(radius).map_err(|e| e.to_string())?
         }
         "circle" => {
             let d = depth.unwrap_or(DEFAULT_CIRCLE_DEPTH);
@@ -40,7 +35,7 @@ pub fn resolve(
             } else {
                 Hull::circle(radius, d)
             };
-            (hull.map_err(|e| e.to_string())?, Some(d))
+            hull.map_err(|e| e.to_string())?
         }
         path => {
             if depth.is_some() {
@@ -53,17 +48,16 @@ pub fn resolve(
                     path.display()
                 ));
             }
-            (Hull::from_file(path).map_err(|e| e.to_string())?, None)
+            Hull::from_file(path).map_err(|e| e.to_string())?
         }
     };
-    let hull = match dofs {
+    match dofs {
         Some(list) => {
             let names: Vec<&str> = list.split(',').map(str::trim).collect();
-            hull.select_dofs(&names).map_err(|e| e.to_string())?
+            hull.select_dofs(&names).map_err(|e| e.to_string())
         }
-        None => hull,
-    };
-    Ok((hull, depth))
+        None => Ok(hull),
+    }
 }
 
 /// Parses `MIN:MAX` into a pair.

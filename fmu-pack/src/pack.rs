@@ -15,11 +15,12 @@
 //! hulls (or two networks, or two flag sets) never share one, and the FMU checks it at
 //! instantiation.
 
-use crate::pipeline::{self, Band, Built, FitRequest, HullInfo};
-use crate::scene::SceneReport;
+use crate::pipeline::{self, Built, HullInfo};
+use crate::scene::SceneText;
 use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::model::{Model, Resources};
 use hydrofmu::model_description::FIXED_XML;
+use hydrofmu::scene::{Band, Scene, SceneReport};
 use hydrofmu::variables::{DescriptionInfo, Layout};
 use std::fmt;
 use std::io::{Read, Write};
@@ -153,7 +154,7 @@ impl fmt::Display for PackSummary {
 
 /// `fmu-pack pack`.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
-    let (resolved, depth, sweep_params) = args.sweep.resolve()?;
+    let (resolved, sweep_params) = args.sweep.resolve()?;
     let hull = HullInfo::new(&resolved);
     let mut report = None;
     let network_xml = match &args.network {
@@ -173,25 +174,28 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                 .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?
         }
         None => {
-            let request = FitRequest {
-                band: match &args.band {
-                    Some(text) => Band::parse(text)?,
-                    None => FitRequest::default().band,
-                },
-                tolerance: args.tol,
-                order: args.order,
-                form: None,
-                max_step: args.max_step,
-                dofs: Some(hull.dofs.iter().map(|d| d.name.clone()).collect()),
+            let band = match &args.band {
+                Some(text) => pipeline::parse_band(text)?,
+                None => Band::default(),
             };
             // Swept whole: the report states what the left-out DOFs would have coupled.
             let whole = HullSweepArgs {
                 dofs: None,
                 ..args.sweep.clone()
             };
-            let (whole_hull, _, _) = whole.resolve()?;
-            let built = pipeline::build_network(&whole_hull, depth, &sweep_params, &request)?;
-            let scene = SceneReport::new(&built, built.all_dofs.as_ref());
+            let (whole_hull, _) = whole.resolve()?;
+            let scene = Scene {
+                dofs: Some(hull.dofs.iter().map(|d| d.name.clone()).collect()),
+                band,
+                tolerance: args.tol,
+                order: args.order,
+                form: None,
+                max_step: args.max_step,
+                sweep: sweep_params,
+                ..Scene::new(whole_hull)
+            };
+            let built = pipeline::build_network(scene)?;
+            let scene = built.report();
             let xml = built.fit.network.to_xml_string();
             report = Some(Fitted { built, scene });
             xml
@@ -289,7 +293,7 @@ pub fn pack_network(
     let mut plot_entries = Vec::new();
     let mut scene_entry = None;
     if let Some(Fitted { built, scene }) = fit {
-        let scene_text = scene.to_string();
+        let scene_text = SceneText(scene).to_string();
         let mut section = format!(
             "<h2>Scene: what this FMU models and leaves out</h2>\n<pre>{}</pre>\n\
              <h2>Fit report</h2>\n<pre>{}</pre>\n",

@@ -6,6 +6,7 @@ use clap::Args;
 use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
+use hydrofmu::scene::Scene;
 use hydrofmu::sweep::{self, SweepParams};
 use std::io::Write;
 use std::path::PathBuf;
@@ -50,10 +51,9 @@ pub struct HullSweepArgs {
 }
 
 impl HullSweepArgs {
-    /// The hull (with the H/R of built-in hulls) and the sweep parameters.
-    pub fn resolve(&self) -> Result<(Hull, Option<f64>, SweepParams), String> {
-        let (hull, depth) =
-            hull_arg::resolve(&self.hull, self.radius, self.depth, self.dofs.as_deref())?;
+    /// The hull and the sweep parameters.
+    pub fn resolve(&self) -> Result<(Hull, SweepParams), String> {
+        let hull = hull_arg::resolve(&self.hull, self.radius, self.depth, self.dofs.as_deref())?;
         let params = SweepParams {
             kr: parse_grid(&self.kr)?,
             panels: panel_params(&hull, self.panels),
@@ -65,7 +65,7 @@ impl HullSweepArgs {
             extrapolation_levels: self.levels,
             threads: self.threads,
         };
-        Ok((hull, depth, params))
+        Ok((hull, params))
     }
 }
 
@@ -109,13 +109,16 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
-    let (hull, depth, params) = args.sweep.resolve()?;
+    let (hull, params) = args.sweep.resolve()?;
+    let scene = Scene {
+        sweep: params,
+        ..Scene::new(hull)
+    };
     let progress = Progress::new("sweep");
     let start = Instant::now();
-    let result = sweep::run(&hull, depth, &params, &|done, total| {
-        progress.update(done, total)
-    })
-    .map_err(|e| e.to_string())?;
+    let result = scene
+        .sweep(&|done, total| progress.update(done, total))
+        .map_err(|e| e.to_string())?;
     let elapsed = start.elapsed();
     let mut text = Vec::new();
     result
