@@ -21,15 +21,25 @@ pub mod bem;
 pub mod convolution;
 pub mod discretize;
 pub mod fmi2;
+pub mod fmu;
 pub mod green;
 pub mod hull;
 pub mod identify;
 pub mod model;
-pub mod model_description;
+/// The fixed part of the FMU interface (now [`fmu::description`]; this path is kept).
+pub mod model_description {
+    pub use crate::fmu::description::*;
+}
 pub mod panels;
 pub mod plot;
 pub mod realize;
 pub mod scene;
 pub mod sweep;
 pub mod units;
-pub mod variables;
+/// The per-hull FMU variables, units and GUID (now in [`fmu`]; this path is kept).
+pub mod variables {
+    pub use crate::fmu::description::DescriptionInfo;
+    pub use crate::fmu::guid::{content_guid, sha256};
+    pub use crate::fmu::units::DofUnit;
+    pub use crate::fmu::variables::*;
+}

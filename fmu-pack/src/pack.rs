@@ -18,10 +18,10 @@
 use crate::pipeline::{self, Built, HullInfo};
 use crate::scene::SceneText;
 use crate::sweep_cmd::HullSweepArgs;
-use hydrofmu::model::{Model, Resources};
-use hydrofmu::model_description::FIXED_XML;
+use hydrofmu::fmu::description::FIXED_XML;
+use hydrofmu::fmu::{DescriptionInfo, Layout, Resources};
+use hydrofmu::model::Model;
 use hydrofmu::scene::{Band, Scene, SceneReport};
-use hydrofmu::variables::{DescriptionInfo, Layout};
 use std::fmt;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -246,12 +246,9 @@ pub fn pack_network(
     output: &Path,
     fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
-    let resources = Resources::new(
-        network_xml.to_string(),
-        hull.xml.clone(),
-        Resources::options_text(keep_inf_mass),
-    )
-    .map_err(|e| e.to_string())?;
+    let resources =
+        Resources::with_options(network_xml.to_string(), hull.xml.clone(), keep_inf_mass);
+    // Parses network.xml once; the GUID is that of the packed texts.
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
     let mut units = Vec::new();
     for name in model.dof_names() {
@@ -732,7 +729,7 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hydrofmu::variables::DofUnit;
+    use hydrofmu::fmu::DofUnit;
 
     /// The seed paper's 2-DOF network (the shipped example file).
     const SEED: &str = include_str!("../../examples/networks/seed_2dof.xml");

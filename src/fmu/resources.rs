@@ -1,0 +1,234 @@
+//! The files of an FMU's `resources/` folder and their texts.
+//!
+//! ```text
+//! resources/network.xml   the equivalent network (crate::realize, docs/NETWORK_FORMAT.md)
+//! resources/options.xml   <hydrofmu_options format="1" keep_inf_mass="true|false"/>
+//! resources/hull.xml      the hull, when known (only carried, not read by the FMU)
+//! ```
+//!
+//! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
+
+use crate::fmu::guid::content_guid;
+use crate::realize::Network;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Why the resources could not be read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ResourcesError {
+    /// A file cannot be read.
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        reason: String,
+    },
+    /// `options.xml` is malformed.
+    Options(String),
+}
+
+impl ResourcesError {
+    /// The message without the leading `resources:`.
+    pub fn detail(&self) -> String {
+        match self {
+            ResourcesError::Read { path, reason } => {
+                format!("cannot read {}: {reason}", path.display())
+            }
+            ResourcesError::Options(m) => m.clone(),
+        }
+    }
+}
+
+impl fmt::Display for ResourcesError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "resources: {}", self.detail())
+    }
+}
+
+impl std::error::Error for ResourcesError {}
+
+/// The files in an FMU's `resources/` folder.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resources {
+    /// Text of `network.xml`.
+    pub network_xml: String,
+    /// Text of `hull.xml`, when the hull is known.
+    pub hull_xml: Option<String>,
+    /// Text of `options.xml`.
+    pub options_xml: String,
+    /// Whether the force includes `-A_inf a` (from `options.xml`).
+    pub keep_inf_mass: bool,
+}
+
+impl Resources {
+    /// The network file.
+    pub const NETWORK_FILE: &'static str = "network.xml";
+    /// The hull file (optional).
+    pub const HULL_FILE: &'static str = "hull.xml";
+    /// The options file.
+    pub const OPTIONS_FILE: &'static str = "options.xml";
+
+    /// The options file text for these flags.
+    pub fn options_text(keep_inf_mass: bool) -> String {
+        format!(
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<hydrofmu_options format=\"1\" keep_inf_mass=\"{keep_inf_mass}\"/>\n"
+        )
+    }
+
+    /// Resources from their texts (checks the options file).
+    pub fn new(
+        network_xml: String,
+        hull_xml: Option<String>,
+        options_xml: String,
+    ) -> Result<Resources, ResourcesError> {
+        let keep_inf_mass = parse_options(&options_xml)?;
+        Ok(Resources {
+            network_xml,
+            hull_xml,
+            options_xml,
+            keep_inf_mass,
+        })
+    }
+
+    /// Reads the resources folder.
+    pub fn read(dir: &Path) -> Result<Resources, ResourcesError> {
+        let read = |name: &str| {
+            std::fs::read_to_string(dir.join(name)).map_err(|e| ResourcesError::Read {
+                path: dir.join(name),
+                reason: e.to_string(),
+            })
+        };
+        let network = read(Self::NETWORK_FILE)?;
+        let options = read(Self::OPTIONS_FILE)?;
+        let hull_path = dir.join(Self::HULL_FILE);
+        let hull = if hull_path.exists() {
+            Some(read(Self::HULL_FILE)?)
+        } else {
+            None
+        };
+        Resources::new(network, hull, options)
+    }
+
+    /// Resources from the network text and the flags (the options text is written, not
+    /// read back).
+    pub fn with_options(
+        network_xml: String,
+        hull_xml: Option<String>,
+        keep_inf_mass: bool,
+    ) -> Resources {
+        Resources {
+            network_xml,
+            hull_xml,
+            options_xml: Self::options_text(keep_inf_mass),
+            keep_inf_mass,
+        }
+    }
+
+    /// The resources of a network, with its canonical text ([`Network::to_xml_string`]).
+    pub fn for_network(
+        network: &Network,
+        hull_xml: Option<String>,
+        keep_inf_mass: bool,
+    ) -> Resources {
+        Self::with_options(network.to_xml_string(), hull_xml, keep_inf_mass)
+    }
+
+    /// The GUID these resources imply ([`content_guid`]).
+    pub fn guid(&self) -> String {
+        let mut parts: Vec<(&str, &[u8])> = vec![(Self::NETWORK_FILE, self.network_xml.as_bytes())];
+        if let Some(h) = &self.hull_xml {
+            parts.push((Self::HULL_FILE, h.as_bytes()));
+        }
+        parts.push((Self::OPTIONS_FILE, self.options_xml.as_bytes()));
+        content_guid(&parts)
+    }
+}
+
+/// `keep_inf_mass` of `options.xml` (quick_xml events; the element may be anywhere).
+fn parse_options(text: &str) -> Result<bool, ResourcesError> {
+    use quick_xml::events::Event;
+    let mut reader = quick_xml::Reader::from_str(text);
+    loop {
+        match reader.read_event() {
+            Err(e) => return Err(ResourcesError::Options(format!("options.xml: {e}"))),
+            Ok(Event::Eof) => {
+                return Err(ResourcesError::Options(
+                    "options.xml has no <hydrofmu_options>".into(),
+                ))
+            }
+            Ok(Event::Start(e)) | Ok(Event::Empty(e))
+                if e.name().as_ref() == b"hydrofmu_options" =>
+            {
+                let mut keep = None;
+                let mut format = None;
+                for a in e.attributes() {
+                    let a = a.map_err(|e| ResourcesError::Options(format!("options.xml: {e}")))?;
+                    let value = String::from_utf8_lossy(&a.value).into_owned();
+                    match a.key.as_ref() {
+                        b"keep_inf_mass" => keep = Some(value),
+                        b"format" => format = Some(value),
+                        _ => {}
+                    }
+                }
+                if format.as_deref() != Some("1") {
+                    return Err(ResourcesError::Options(format!(
+                        "options.xml: format {format:?}, expected \"1\""
+                    )));
+                }
+                return match keep.as_deref() {
+                    Some("true") => Ok(true),
+                    Some("false") => Ok(false),
+                    other => Err(ResourcesError::Options(format!(
+                        "options.xml: keep_inf_mass = {other:?}, expected true or false"
+                    ))),
+                };
+            }
+            Ok(_) => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SEED_NETWORK: &str = include_str!("../../examples/networks/seed_2dof.xml");
+
+    fn resources(keep_inf_mass: bool) -> Resources {
+        Resources::new(
+            SEED_NETWORK.into(),
+            None,
+            Resources::options_text(keep_inf_mass),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn options_are_checked() {
+        assert!(Resources::new(SEED_NETWORK.into(), None, "<x/>".into()).is_err());
+        assert!(Resources::new(
+            SEED_NETWORK.into(),
+            None,
+            "<hydrofmu_options format=\"1\" keep_inf_mass=\"yes\"/>".into()
+        )
+        .is_err());
+        assert!(resources(true).keep_inf_mass);
+        assert!(!resources(false).keep_inf_mass);
+        assert_ne!(resources(false).guid(), resources(true).guid());
+    }
+
+    #[test]
+    fn a_network_gives_its_canonical_text() {
+        let network = Network::from_xml_str(SEED_NETWORK, "seed.xml").unwrap();
+        let from_network = Resources::for_network(&network, None, true);
+        let text = network.to_xml_string();
+        let from_text = Resources::new(text, None, Resources::options_text(true)).unwrap();
+        assert_eq!(from_network, from_text);
+        let given = Resources::with_options(network.to_xml_string(), None, true);
+        assert_eq!(given, from_text);
+        assert_eq!(from_network.guid(), from_text.guid());
+        let with_hull = Resources::for_network(&network, Some("<hull/>".into()), true);
+        assert_ne!(with_hull.guid(), from_network.guid());
+    }
+}

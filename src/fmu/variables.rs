@@ -1,0 +1,464 @@
+//! The per-hull FMU variables, declared once for the FMI layer and for `fmu-pack`.
+//!
+//! For DOFs d_1..d_n (names from the hull) the layout is, value references counting from
+//! [`FIRST_PER_HULL_REFERENCE`] (= r0):
+//!
+//! | variable | causality | value reference |
+//! | --- | --- | --- |
+//! | `velocity.<d_i>` | input, start 0 | r0 + i - 1 |
+//! | `force.<d_i>` | output | r0 + n + i - 1 |
+//! | `power` | output | r0 + 2n |
+//! | `energy` | output | r0 + 2n + 1 |
+//! | `added_mass_inf[i,j]` | calculated parameter | r0 + 2n + 2 + (i-1) n + j - 1 |
+//! | `damping_direct[i,j]` | calculated parameter | r0 + 2n + 2 + n^2 + (i-1) n + j - 1 |
+//! | `acceleration.<d_i>` (keep_inf_mass only) | input, start 0 | r0 + 2n + 2 + 2n^2 + i - 1 |
+//!
+//! plus the fixed parameters `rho`, `g` of `modelDescription/fixed.xml`. `force` is the
+//! generalized force on the hull by the water per unit length; `power = -force . velocity`
+//! is the power the hull delivers to the water; `energy` is the energy stored in the
+//! equivalent network (plus `1/2 v^T A_inf v` when the FMU keeps `A_inf`).
+//!
+//! Units follow each DOF's length exponent ([`crate::fmu::units`]).
+//! [`Layout::model_description`] ([`crate::fmu::description`]) writes the complete
+//! `modelDescription.xml` from these variables.
+
+use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, PARAMETERS, VR_G, VR_RHO};
+use crate::fmu::units::{added_mass_unit, damping_unit, DofUnit};
+use std::fmt;
+
+/// Why a layout or a model description could not be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VariablesError(pub String);
+
+impl fmt::Display for VariablesError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "FMU variables: {}", self.0)
+    }
+}
+
+impl std::error::Error for VariablesError {}
+
+/// What a variable is. Indices are 0-based DOF indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Quantity {
+    /// Water density (fixed parameter).
+    Rho,
+    /// Gravity (fixed parameter).
+    G,
+    /// Hull velocity input.
+    Velocity(usize),
+    /// Force output.
+    Force(usize),
+    /// Hull acceleration input (keep_inf_mass only).
+    Acceleration(usize),
+    /// Infinite-frequency added mass entry (calculated parameter).
+    AddedMassInf(usize, usize),
+    /// Direct damping entry (calculated parameter).
+    DampingDirect(usize, usize),
+    /// Power the hull delivers to the water (output).
+    Power,
+    /// Energy stored in the network (output).
+    Energy,
+}
+
+/// FMI causality.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    /// `parameter`.
+    Parameter,
+    /// `calculatedParameter`.
+    CalculatedParameter,
+    /// `input`.
+    Input,
+    /// `output`.
+    Output,
+}
+
+impl Causality {
+    /// The word in modelDescription.xml.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::CalculatedParameter => "calculatedParameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        }
+    }
+}
+
+/// One scalar variable.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    /// Name in the FMU.
+    pub name: String,
+    /// FMI value reference.
+    pub value_reference: u32,
+    /// What it is.
+    pub quantity: Quantity,
+    /// FMI causality.
+    pub causality: Causality,
+    /// Unit name (declared in the fixed XML).
+    pub unit: &'static str,
+    /// Human-readable description.
+    pub description: String,
+    /// Start value (inputs and parameters).
+    pub start: Option<f64>,
+}
+
+impl Variable {
+    /// FMI variability: `fixed` for parameters, `continuous` otherwise.
+    pub fn variability(&self) -> &'static str {
+        match self.causality {
+            Causality::Parameter | Causality::CalculatedParameter => "fixed",
+            _ => "continuous",
+        }
+    }
+}
+
+/// The variables of one hull's FMU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub(super) dofs: Vec<DofUnit>,
+    pub(super) keep_inf_mass: bool,
+    pub(super) variables: Vec<Variable>,
+}
+
+/// A letter, then letters, digits or `_` (DOF names, model identifiers).
+pub(super) fn valid_name(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic())
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+impl Layout {
+    /// The layout for these DOFs; `keep_inf_mass` adds the acceleration inputs.
+    pub fn new(dofs: Vec<DofUnit>, keep_inf_mass: bool) -> Result<Layout, VariablesError> {
+        if dofs.is_empty() {
+            return Err(VariablesError("a hull needs at least one DOF".into()));
+        }
+        for (i, d) in dofs.iter().enumerate() {
+            if !valid_name(&d.name) {
+                return Err(VariablesError(format!(
+                    "DOF name '{}' must be a letter followed by letters, digits or '_'",
+                    d.name
+                )));
+            }
+            if d.length_exponent > 1 {
+                return Err(VariablesError(format!(
+                    "DOF '{}': length exponent {} (0 or 1 expected)",
+                    d.name, d.length_exponent
+                )));
+            }
+            if dofs[..i].iter().any(|o| o.name == d.name) {
+                return Err(VariablesError(format!("DOF '{}' appears twice", d.name)));
+            }
+        }
+        let n = dofs.len();
+        if n > 1000 {
+            return Err(VariablesError(format!("{n} DOFs is too many")));
+        }
+        let mut layout = Layout {
+            dofs,
+            keep_inf_mass,
+            variables: Vec::new(),
+        };
+        let mut vars = Vec::new();
+        for p in PARAMETERS {
+            let quantity = if p.value_reference == VR_RHO {
+                Quantity::Rho
+            } else if p.value_reference == VR_G {
+                Quantity::G
+            } else {
+                continue;
+            };
+            vars.push(Variable {
+                name: p.name.to_string(),
+                value_reference: p.value_reference,
+                quantity,
+                causality: Causality::Parameter,
+                unit: p.unit,
+                description: p.description.to_string(),
+                start: Some(p.start),
+            });
+        }
+        let force_note = if keep_inf_mass {
+            "including -added_mass_inf * acceleration"
+        } else {
+            "excluding -added_mass_inf * acceleration (add added_mass_inf to the hull's mass)"
+        };
+        for (i, d) in layout.dofs.iter().enumerate() {
+            vars.push(Variable {
+                name: format!("velocity.{}", d.name),
+                value_reference: 0,
+                quantity: Quantity::Velocity(i),
+                causality: Causality::Input,
+                unit: d.velocity_unit(),
+                description: format!("Hull velocity in DOF {}", d.name),
+                start: Some(0.0),
+            });
+        }
+        for (i, d) in layout.dofs.iter().enumerate() {
+            vars.push(Variable {
+                name: format!("force.{}", d.name),
+                value_reference: 0,
+                quantity: Quantity::Force(i),
+                causality: Causality::Output,
+                unit: d.force_unit(),
+                description: format!(
+                    "Generalized force on the hull by the water in DOF {}, per unit length, {}",
+                    d.name, force_note
+                ),
+                start: None,
+            });
+        }
+        vars.push(Variable {
+            name: "power".into(),
+            value_reference: 0,
+            quantity: Quantity::Power,
+            causality: Causality::Output,
+            unit: "W/m",
+            description: "Power the hull delivers to the water, -force . velocity".into(),
+            start: None,
+        });
+        vars.push(Variable {
+            name: "energy".into(),
+            value_reference: 0,
+            quantity: Quantity::Energy,
+            causality: Causality::Output,
+            unit: "J/m",
+            description: if keep_inf_mass {
+                "Energy stored in the equivalent network, including 1/2 v.added_mass_inf.v".into()
+            } else {
+                "Energy stored in the equivalent network".into()
+            },
+            start: None,
+        });
+        for (kind, unit_of) in [
+            (0, added_mass_unit as fn(u8) -> &'static str),
+            (1, damping_unit),
+        ] {
+            for i in 0..n {
+                for j in 0..n {
+                    let sum = layout.dofs[i].length_exponent + layout.dofs[j].length_exponent;
+                    let (di, dj) = (&layout.dofs[i].name, &layout.dofs[j].name);
+                    let (name, quantity, description) = if kind == 0 {
+                        (
+                            format!("added_mass_inf[{},{}]", i + 1, j + 1),
+                            Quantity::AddedMassInf(i, j),
+                            if keep_inf_mass {
+                                format!("Added mass at infinite frequency, {di}-{dj} (already in force)")
+                            } else {
+                                format!("Added mass at infinite frequency, {di}-{dj}: add it to the hull's mass matrix")
+                            },
+                        )
+                    } else {
+                        (
+                            format!("damping_direct[{},{}]", i + 1, j + 1),
+                            Quantity::DampingDirect(i, j),
+                            format!("Direct damping, {di}-{dj}: d force.{di} / d velocity.{dj} = -damping_direct"),
+                        )
+                    };
+                    vars.push(Variable {
+                        name,
+                        value_reference: 0,
+                        quantity,
+                        causality: Causality::CalculatedParameter,
+                        unit: unit_of(sum),
+                        description,
+                        start: None,
+                    });
+                }
+            }
+        }
+        if keep_inf_mass {
+            for (i, d) in layout.dofs.iter().enumerate() {
+                vars.push(Variable {
+                    name: format!("acceleration.{}", d.name),
+                    value_reference: 0,
+                    quantity: Quantity::Acceleration(i),
+                    causality: Causality::Input,
+                    unit: d.acceleration_unit(),
+                    description: format!("Hull acceleration in DOF {}", d.name),
+                    start: Some(0.0),
+                });
+            }
+        }
+        for v in &mut vars {
+            if !matches!(v.quantity, Quantity::Rho | Quantity::G) {
+                v.value_reference = layout
+                    .value_reference(v.quantity)
+                    .ok_or_else(|| VariablesError("internal: no value reference".into()))?;
+            }
+        }
+        layout.variables = vars;
+        Ok(layout)
+    }
+
+    /// The DOFs.
+    pub fn dofs(&self) -> &[DofUnit] {
+        &self.dofs
+    }
+
+    /// Number of DOFs n.
+    pub fn dof_count(&self) -> usize {
+        self.dofs.len()
+    }
+
+    /// Whether the acceleration inputs exist and the force includes `-A_inf a`.
+    pub fn keep_inf_mass(&self) -> bool {
+        self.keep_inf_mass
+    }
+
+    /// All variables in modelDescription order (fixed parameters first).
+    pub fn variables(&self) -> &[Variable] {
+        &self.variables
+    }
+
+    /// The variable with this value reference.
+    pub fn variable(&self, value_reference: u32) -> Option<&Variable> {
+        let q = self.quantity(value_reference)?;
+        self.variables.iter().find(|v| v.quantity == q)
+    }
+
+    /// The value reference of a quantity (`None` if it does not exist in this layout).
+    pub fn value_reference(&self, quantity: Quantity) -> Option<u32> {
+        let n = self.dofs.len();
+        let base = FIRST_PER_HULL_REFERENCE as usize;
+        let offset = match quantity {
+            Quantity::Rho => return Some(VR_RHO),
+            Quantity::G => return Some(VR_G),
+            Quantity::Velocity(i) if i < n => i,
+            Quantity::Force(i) if i < n => n + i,
+            Quantity::Power => 2 * n,
+            Quantity::Energy => 2 * n + 1,
+            Quantity::AddedMassInf(i, j) if i < n && j < n => 2 * n + 2 + i * n + j,
+            Quantity::DampingDirect(i, j) if i < n && j < n => 2 * n + 2 + n * n + i * n + j,
+            Quantity::Acceleration(i) if i < n && self.keep_inf_mass => 2 * n + 2 + 2 * n * n + i,
+            _ => return None,
+        };
+        u32::try_from(base + offset).ok()
+    }
+
+    /// What the value reference refers to (constant time).
+    pub fn quantity(&self, value_reference: u32) -> Option<Quantity> {
+        if value_reference == VR_RHO {
+            return Some(Quantity::Rho);
+        }
+        if value_reference == VR_G {
+            return Some(Quantity::G);
+        }
+        let n = self.dofs.len();
+        let k = (value_reference as usize).checked_sub(FIRST_PER_HULL_REFERENCE as usize)?;
+        let q = if k < n {
+            Quantity::Velocity(k)
+        } else if k < 2 * n {
+            Quantity::Force(k - n)
+        } else if k == 2 * n {
+            Quantity::Power
+        } else if k == 2 * n + 1 {
+            Quantity::Energy
+        } else if k < 2 * n + 2 + n * n {
+            let r = k - 2 * n - 2;
+            Quantity::AddedMassInf(r / n, r % n)
+        } else if k < 2 * n + 2 + 2 * n * n {
+            let r = k - 2 * n - 2 - n * n;
+            Quantity::DampingDirect(r / n, r % n)
+        } else if self.keep_inf_mass && k < 3 * n + 2 + 2 * n * n {
+            Quantity::Acceleration(k - 2 * n - 2 - 2 * n * n)
+        } else {
+            return None;
+        };
+        Some(q)
+    }
+
+    /// 1-based index in `<ModelVariables>`.
+    pub(super) fn index_of(&self, quantity: Quantity) -> usize {
+        self.variables
+            .iter()
+            .position(|v| v.quantity == quantity)
+            .map(|p| p + 1)
+            .unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nine() -> Vec<DofUnit> {
+        [
+            "sway", "heave", "roll", "cb1", "cb2", "cb3", "cb4", "cb5", "cb6",
+        ]
+        .iter()
+        .map(|n| DofUnit::builtin(n).unwrap())
+        .collect()
+    }
+
+    #[test]
+    fn value_references_round_trip_and_are_unique() {
+        for keep in [false, true] {
+            let layout = Layout::new(nine(), keep).unwrap();
+            let mut seen = std::collections::BTreeSet::new();
+            for v in layout.variables() {
+                assert!(seen.insert(v.value_reference), "{}", v.name);
+                assert_eq!(layout.quantity(v.value_reference), Some(v.quantity));
+            }
+            let n = 9;
+            let expected = 2 + 2 * n + 2 + 2 * n * n + if keep { n } else { 0 };
+            assert_eq!(layout.variables().len(), expected);
+            // One past the last per-hull reference is unknown.
+            let last = layout.variables().iter().map(|v| v.value_reference).max();
+            assert_eq!(layout.quantity(last.unwrap() + 1), None);
+            assert_eq!(layout.quantity(2), None);
+        }
+        // Keeping A_inf does not move the other references.
+        let a = Layout::new(nine(), false).unwrap();
+        let b = Layout::new(nine(), true).unwrap();
+        for v in a.variables() {
+            assert_eq!(b.value_reference(v.quantity), Some(v.value_reference));
+        }
+    }
+
+    #[test]
+    fn units_follow_the_length_exponents() {
+        let layout = Layout::new(nine(), true).unwrap();
+        let unit = |name: &str| {
+            layout
+                .variables()
+                .iter()
+                .find(|v| v.name == name)
+                .unwrap()
+                .unit
+        };
+        assert_eq!(unit("velocity.sway"), "m/s");
+        assert_eq!(unit("velocity.roll"), "rad/s");
+        assert_eq!(unit("acceleration.cb3"), "rad/s2");
+        assert_eq!(unit("force.heave"), "N/m");
+        assert_eq!(unit("force.roll"), "N");
+        assert_eq!(unit("added_mass_inf[1,1]"), "kg/m");
+        assert_eq!(unit("added_mass_inf[1,3]"), "kg");
+        assert_eq!(unit("added_mass_inf[3,6]"), "kg.m");
+        assert_eq!(unit("damping_direct[2,2]"), "N.s/m2");
+        assert_eq!(unit("damping_direct[3,1]"), "N.s/m");
+        assert_eq!(unit("damping_direct[9,9]"), "N.s");
+        let elastic = Layout::new(vec![DofUnit::new("bend", 1, false)], false).unwrap();
+        assert_eq!(elastic.variables()[2].unit, "1/s");
+        for v in layout.variables() {
+            assert!(
+                crate::fmu::description::UNITS.contains(&v.unit),
+                "{}",
+                v.unit
+            );
+        }
+    }
+
+    #[test]
+    fn bad_dofs_are_rejected() {
+        assert!(Layout::new(vec![], false).is_err());
+        assert!(Layout::new(vec![DofUnit::new("a b", 0, false)], false).is_err());
+        assert!(Layout::new(vec![DofUnit::new("1a", 0, false)], false).is_err());
+        assert!(Layout::new(vec![DofUnit::new("a", 2, false)], false).is_err());
+        let twice = vec![DofUnit::new("a", 0, false), DofUnit::new("a", 1, true)];
+        assert!(Layout::new(twice, false).is_err());
+    }
+}

@@ -1,0 +1,419 @@
+//! The radiation component: explicit state, exact stepping, outputs, energy. No FFI types.
+//!
+//! The water acts on the hull through the equivalent network of [`crate::realize`]:
+//!
+//! ```text
+//! z' = A z + B v                        (z: spring elongations and aux velocities)
+//! F  = C z + D v  [- A_inf a]           (force on the hull by the water)
+//! power  = -F . v                        (power the hull delivers to the water)
+//! energy = 1/2 z^T P z  [+ 1/2 v^T A_inf v]
+//! ```
+//!
+//! The bracketed terms exist only when the FMU keeps `A_inf` (`keep_inf_mass` in the
+//! resources; the `acceleration.<dof>` inputs then exist). By default the master adds
+//! `A_inf` (`added_mass_inf`) to its own mass matrix instead. For a passive network
+//! `d energy/dt = power - dissipation`, so the work done on the water always exceeds the
+//! stored energy.
+//!
+//! Outputs always reflect the current inputs (direct feedthrough `D = -damping_direct`).
+//! A step from t to t + h is exact for inputs held over the step, or ramped
+//! (`v(t + s) = v + v' s`) when the master set input derivatives; afterwards the stored
+//! inputs are the ramp's end values and the derivatives stay set until the master changes
+//! them. `rho` and `g` rescale the network exactly ([`crate::realize::Network::scaled`]).
+//!
+//! Layout (Rapier style), one file each: [`RadiationSystem`] (`system`) holds the matrices at
+//! one rho, g; [`Stepper`] (`stepper`) holds the discretization cache and scratch memory;
+//! `outputs` computes force, power, energy and their derivatives; `snapshot` writes and reads
+//! the state bytes ([`Model::serialize`]). [`ModelState`] is the explicit state. [`Model`]
+//! bundles them for the FMI layer; [`Model::new`] builds it from a [`Network`].
+//!
+//! Time: a step must start at the component's time (relative tolerance
+//! [`TIME_TOLERANCE`] times the larger of |t| and h); the new time is `anchor + k h`
+//! while the master keeps one step size (no drift from repeated additions).
+
+mod outputs;
+mod snapshot;
+mod stepper;
+mod system;
+#[cfg(test)]
+pub(crate) mod tests;
+
+pub use crate::fmu::resources::Resources;
+pub use stepper::Stepper;
+pub use system::RadiationSystem;
+
+use crate::discretize::DiscretizeError;
+use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
+use crate::fmu::resources::ResourcesError;
+use crate::fmu::variables::Quantity;
+use crate::realize::Network;
+use nalgebra::DVector;
+use outputs::Outputs;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use system::{check_parameter, parse_network};
+
+/// Relative tolerance on the communication point (times max(|t|, h)).
+pub const TIME_TOLERANCE: f64 = 1e-10;
+
+/// Largest magnitude accepted for an input, an input derivative or a parameter (SI). Far
+/// beyond anything physical, and small enough that force, power and energy stay finite
+/// (they are at most quadratic in the inputs); larger values are refused like NaN.
+pub const MAX_INPUT: f64 = 1e100;
+
+/// A finite value within [`MAX_INPUT`]: what an input, input derivative or parameter may be.
+pub fn acceptable(value: f64) -> bool {
+    value.is_finite() && value.abs() <= MAX_INPUT
+}
+
+/// Why a model call was refused. The state is unchanged whenever an error is returned.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelError {
+    /// A resource file is missing or malformed.
+    Resources(String),
+    /// The network cannot be used.
+    Network(String),
+    /// A parameter value is out of range.
+    Parameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Refused value.
+        value: f64,
+    },
+    /// An input value is not finite.
+    Input {
+        /// What was set.
+        what: String,
+        /// Refused value.
+        value: f64,
+    },
+    /// A variable that cannot be set or read this way.
+    Variable(String),
+    /// The step was refused or failed.
+    Step(String),
+    /// Serialized state bytes are corrupt or belong to another FMU.
+    State(String),
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModelError::Resources(m) => write!(f, "resources: {m}"),
+            ModelError::Network(m) => write!(f, "network: {m}"),
+            ModelError::Parameter { name, value } => {
+                write!(f, "parameter {name} = {value} is out of range")
+            }
+            ModelError::Input { what, value } => write!(
+                f,
+                "input {what} = {value:e} is not finite or exceeds {MAX_INPUT:e} in magnitude"
+            ),
+            ModelError::Variable(m) => write!(f, "{m}"),
+            ModelError::Step(m) => write!(f, "step refused: {m}"),
+            ModelError::State(m) => write!(f, "FMU state: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for ModelError {}
+
+impl From<DiscretizeError> for ModelError {
+    fn from(e: DiscretizeError) -> Self {
+        ModelError::Step(e.to_string())
+    }
+}
+
+impl From<ResourcesError> for ModelError {
+    fn from(e: ResourcesError) -> Self {
+        ModelError::Resources(e.detail())
+    }
+}
+
+/// How [`Model::new`] builds the component from a network.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ModelOptions {
+    /// The force includes `-A_inf a` and the acceleration inputs exist (else the master adds
+    /// `added_mass_inf` to its own mass matrix).
+    pub keep_inf_mass: bool,
+    /// The GUID of the FMU the component belongs to (states of other GUIDs are refused).
+    /// `None`: the content GUID of the network's canonical text and the options text,
+    /// [`Resources::for_network`] without a hull: the GUID of an FMU packed with exactly
+    /// those two resource files.
+    pub guid: Option<String>,
+}
+
+/// The explicit state of the component.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelState {
+    /// Water density in use.
+    pub rho: f64,
+    /// Gravity in use.
+    pub g: f64,
+    /// Current time (s).
+    pub time: f64,
+    /// Time at which the current run of equal steps started.
+    pub time_anchor: f64,
+    /// Size of the last step (0 before the first).
+    pub last_step: f64,
+    /// Number of steps of size `last_step` since `time_anchor`.
+    pub steps_since_anchor: u64,
+    /// Network state z.
+    pub network: DVector<f64>,
+    /// Hull velocities v (inputs).
+    pub velocity: DVector<f64>,
+    /// dv/dt set by the master (first-order hold).
+    pub velocity_derivative: DVector<f64>,
+    /// Hull accelerations (inputs, keep_inf_mass only; zero otherwise).
+    pub acceleration: DVector<f64>,
+    /// d(acceleration)/dt set by the master.
+    pub acceleration_derivative: DVector<f64>,
+}
+
+impl ModelState {
+    /// Rest at time 0 with the default rho and g.
+    pub fn rest(dofs: usize, states: usize) -> ModelState {
+        ModelState {
+            rho: DEFAULT_RHO,
+            g: DEFAULT_G,
+            time: 0.0,
+            time_anchor: 0.0,
+            last_step: 0.0,
+            steps_since_anchor: 0,
+            network: DVector::zeros(states),
+            velocity: DVector::zeros(dofs),
+            velocity_derivative: DVector::zeros(dofs),
+            acceleration: DVector::zeros(dofs),
+            acceleration_derivative: DVector::zeros(dofs),
+        }
+    }
+
+    pub(super) fn vectors(&self) -> [&DVector<f64>; 5] {
+        [
+            &self.network,
+            &self.velocity,
+            &self.velocity_derivative,
+            &self.acceleration,
+            &self.acceleration_derivative,
+        ]
+    }
+}
+
+/// The radiation component: reference network, system at the current rho and g, stepper and
+/// state.
+#[derive(Clone, Debug)]
+pub struct Model {
+    network: Network,
+    guid: String,
+    system: RadiationSystem,
+    stepper: Stepper,
+    state: ModelState,
+    outputs: Outputs,
+    outputs_valid: bool,
+    work: DVector<f64>,
+    branch_forces: DVector<f64>,
+}
+
+impl Model {
+    /// The component for a network (at any reference rho, g), at the default rho and g.
+    pub fn new(network: &Network, options: ModelOptions) -> Result<Model, ModelError> {
+        let guid = match options.guid {
+            Some(guid) => guid,
+            None => Resources::for_network(network, None, options.keep_inf_mass).guid(),
+        };
+        let system =
+            RadiationSystem::realize(network, options.keep_inf_mass, DEFAULT_RHO, DEFAULT_G)?;
+        let stepper = Stepper::new(&system)?;
+        let n = system.dof_count();
+        let ns = system.state_size();
+        let mut model = Model {
+            network: network.clone(),
+            guid,
+            state: ModelState::rest(n, ns),
+            stepper,
+            outputs: Outputs::zeros(n),
+            outputs_valid: false,
+            work: DVector::zeros(ns),
+            branch_forces: DVector::zeros(system.branch_count()),
+            system,
+        };
+        model.refresh();
+        Ok(model)
+    }
+
+    /// Loads the component from an FMU's `resources/` folder, at the default rho and g.
+    pub fn load(resource_dir: &Path) -> Result<Model, ModelError> {
+        let resources = Resources::read(resource_dir)?;
+        Model::from_resources(&resources)
+    }
+
+    /// The component from resource texts, at the default rho and g; its GUID is
+    /// [`Resources::guid`].
+    pub fn from_resources(resources: &Resources) -> Result<Model, ModelError> {
+        let network = parse_network(&resources.network_xml)?;
+        let options = ModelOptions {
+            keep_inf_mass: resources.keep_inf_mass,
+            guid: Some(resources.guid()),
+        };
+        Model::new(&network, options)
+    }
+
+    /// Resource folder of an FMU from its unzipped root.
+    pub fn resource_dir(fmu_root: &Path) -> PathBuf {
+        fmu_root.join("resources")
+    }
+
+    /// GUID implied by the resources.
+    pub fn guid(&self) -> &str {
+        &self.guid
+    }
+    /// The system at the current rho and g.
+    pub fn system(&self) -> &RadiationSystem {
+        &self.system
+    }
+    /// The explicit state.
+    pub fn state(&self) -> &ModelState {
+        &self.state
+    }
+    /// DOF names.
+    pub fn dof_names(&self) -> &[String] {
+        &self.system.dof_names
+    }
+    /// Number of DOFs.
+    pub fn dof_count(&self) -> usize {
+        self.system.dof_count()
+    }
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    /// Replaces the state (dimensions and values checked; rho or g changes re-realize).
+    pub fn set_state(&mut self, state: ModelState) -> Result<(), ModelError> {
+        let n = self.dof_count();
+        let ns = self.system.state_size();
+        let dims = [ns, n, n, n, n];
+        for (v, d) in state.vectors().iter().zip(dims) {
+            if v.len() != d {
+                return Err(ModelError::State(format!(
+                    "a vector has {} entries, expected {d}",
+                    v.len()
+                )));
+            }
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(ModelError::State("non-finite values".into()));
+            }
+        }
+        if !state.time.is_finite() || !state.time_anchor.is_finite() || !state.last_step.is_finite()
+        {
+            return Err(ModelError::State("non-finite time".into()));
+        }
+        if state.rho != self.system.rho || state.g != self.system.g {
+            self.rebuild(state.rho, state.g)?;
+        }
+        self.state = state;
+        self.outputs_valid = false;
+        Ok(())
+    }
+
+    /// Rest state, default rho and g, time 0.
+    pub fn reset(&mut self) -> Result<(), ModelError> {
+        let rest = ModelState::rest(self.dof_count(), self.system.state_size());
+        self.set_state(rest)
+    }
+
+    /// Sets the start time (only meaningful before the first step).
+    pub fn set_start_time(&mut self, time: f64) -> Result<(), ModelError> {
+        if !time.is_finite() {
+            return Err(ModelError::Step(format!("start time {time} is not finite")));
+        }
+        self.state.time = time;
+        self.state.time_anchor = time;
+        self.state.last_step = 0.0;
+        self.state.steps_since_anchor = 0;
+        Ok(())
+    }
+
+    fn rebuild(&mut self, rho: f64, g: f64) -> Result<(), ModelError> {
+        let system = RadiationSystem::realize(&self.network, self.system.keep_inf_mass, rho, g)?;
+        let stepper = Stepper::new(&system)?;
+        self.system = system;
+        self.stepper = stepper;
+        self.outputs_valid = false;
+        Ok(())
+    }
+
+    /// Sets rho and g (re-realizes the network exactly).
+    pub fn set_parameters(&mut self, rho: f64, g: f64) -> Result<(), ModelError> {
+        check_parameter("rho", rho)?;
+        check_parameter("g", g)?;
+        self.rebuild(rho, g)?;
+        self.state.rho = rho;
+        self.state.g = g;
+        Ok(())
+    }
+
+    /// Sets a settable variable: rho, g, a velocity or an acceleration.
+    pub fn set_value(&mut self, quantity: Quantity, value: f64) -> Result<(), ModelError> {
+        let n = self.dof_count();
+        let refuse = |what: &str, i: usize| ModelError::Input {
+            what: format!("{what}.{}", self.system.dof_names[i]),
+            value,
+        };
+        match quantity {
+            Quantity::Rho => self.set_parameters(value, self.state.g)?,
+            Quantity::G => self.set_parameters(self.state.rho, value)?,
+            Quantity::Velocity(i) if i < n => {
+                if !acceptable(value) {
+                    return Err(refuse("velocity", i));
+                }
+                self.state.velocity[i] = value;
+            }
+            Quantity::Acceleration(i) if i < n && self.system.keep_inf_mass => {
+                if !acceptable(value) {
+                    return Err(refuse("acceleration", i));
+                }
+                self.state.acceleration[i] = value;
+            }
+            other => {
+                return Err(ModelError::Variable(format!("{other:?} cannot be set")));
+            }
+        }
+        self.outputs_valid = false;
+        Ok(())
+    }
+
+    /// Sets the first time derivative of an input (first-order hold over the next steps).
+    pub fn set_input_derivative(
+        &mut self,
+        quantity: Quantity,
+        value: f64,
+    ) -> Result<(), ModelError> {
+        if !acceptable(value) {
+            return Err(ModelError::Input {
+                what: format!("derivative of {quantity:?}"),
+                value,
+            });
+        }
+        let n = self.dof_count();
+        match quantity {
+            Quantity::Velocity(i) if i < n => self.state.velocity_derivative[i] = value,
+            Quantity::Acceleration(i) if i < n && self.system.keep_inf_mass => {
+                self.state.acceleration_derivative[i] = value
+            }
+            other => {
+                return Err(ModelError::Variable(format!(
+                    "{other:?} is not an input with derivatives"
+                )))
+            }
+        }
+        self.outputs_valid = false;
+        Ok(())
+    }
+
+    /// Advances from `current` (must match the component's time) by h. On error the state
+    /// is unchanged.
+    pub fn step(&mut self, current: f64, h: f64) -> Result<(), ModelError> {
+        self.stepper.step(&mut self.state, current, h)?;
+        self.outputs_valid = false;
+        Ok(())
+    }
+}

@@ -1,0 +1,133 @@
+//! Tests of the whole component, and the networks the other tests use.
+
+use super::*;
+
+/// The seed paper's 2-DOF network (the shipped example file).
+pub(crate) const SEED_NETWORK: &str = include_str!("../../examples/networks/seed_2dof.xml");
+
+/// A coupled 2-DOF network (sway, roll) at rho = g = 1.
+pub(crate) const TWO_DOF_NETWORK: &str = r#"<network format_version="1" form="coupled" rho="1" g="1">
+  <dof name="sway"/>
+  <dof name="roll"/>
+  <added_mass_inf><row>0.2 0.05</row><row>0.05 0.1</row></added_mass_inf>
+  <branch>
+<direction>1 0</direction>
+<stage mass="0.5" stiffness="0.3" damping="0.8"/>
+<stage mass="0.2" stiffness="0.5" damping="0.2"/>
+  </branch>
+  <branch>
+<direction>0.3 1</direction>
+<stage mass="0.4" stiffness="0.7" damping="0.6"/>
+  </branch>
+</network>
+"#;
+
+/// The component of a network text, at the default rho and g, with the default GUID.
+pub(crate) fn model(network: &str, keep_inf_mass: bool) -> Model {
+    let network = Network::from_xml_str(network, "test.xml").unwrap();
+    let options = ModelOptions {
+        keep_inf_mass,
+        guid: None,
+    };
+    Model::new(&network, options).unwrap()
+}
+
+/// The seed network at rho, g.
+pub(crate) fn seed(rho: f64, g: f64) -> Model {
+    let mut m = model(SEED_NETWORK, false);
+    m.set_parameters(rho, g).unwrap();
+    m
+}
+
+#[test]
+fn seed_impulse_response_reaches_the_common_velocity() {
+    // Figure 7 of the seed: body m = 1 (+ m0) with unit impulse, explicit coupling with
+    // a small step; final velocity 1 / (m + m0 + m1 + m2) (momentum conservation).
+    let mut model = seed(1.0, 1.0);
+    let (m, m0) = (1.0, 0.1153);
+    let h = 1e-3;
+    let mut v = 1.0 / (m + m0);
+    let mut t = 0.0;
+    for _ in 0..60_000 {
+        model.set_value(Quantity::Velocity(0), v).unwrap();
+        let f = model.value(Quantity::Force(0)).unwrap();
+        model.step(t, h).unwrap();
+        t = model.time();
+        v += h * f / (m + m0);
+    }
+    let expected = 1.0 / (m + m0 + 0.5434 + 0.1877);
+    // Explicit coupling error O(h) on a 60 s run; 1e-3 of the final velocity.
+    assert!((v - expected).abs() < 1e-3 * expected, "{v} vs {expected}");
+}
+
+#[test]
+fn bad_steps_and_inputs_leave_the_state_unchanged() {
+    let mut m = seed(1.0, 1.0);
+    m.set_value(Quantity::Velocity(0), 1.0).unwrap();
+    m.step(0.0, 0.1).unwrap();
+    let before = m.state().clone();
+    assert!(m.step(0.1, 0.0).is_err());
+    assert!(m.step(0.1, -1.0).is_err());
+    assert!(m.step(0.1, f64::NAN).is_err());
+    assert!(m.step(0.2, 0.1).is_err());
+    assert!(m.step(f64::NAN, 0.1).is_err());
+    assert!(m.set_value(Quantity::Velocity(0), f64::NAN).is_err());
+    assert!(m.set_value(Quantity::Velocity(0), f64::INFINITY).is_err());
+    assert!(m.set_value(Quantity::Force(0), 1.0).is_err());
+    assert!(m
+        .set_input_derivative(Quantity::Velocity(0), f64::NAN)
+        .is_err());
+    // Huge but finite inputs beyond MAX_INPUT: refused, unchanged.
+    assert!(m.set_value(Quantity::Velocity(0), 1e308).is_err());
+    assert!(m
+        .set_input_derivative(Quantity::Velocity(0), -1e101)
+        .is_err());
+    assert!(m.set_parameters(1e300, 9.81).is_err());
+    assert_eq!(m.state(), &before);
+    // At the bound, a ramp over a long step still stays finite; then back to 1 m/s.
+    m.set_value(Quantity::Velocity(0), MAX_INPUT).unwrap();
+    m.set_input_derivative(Quantity::Velocity(0), MAX_INPUT)
+        .unwrap();
+    let mut probe = m.clone();
+    probe.step(0.1, 10.0).unwrap();
+    assert!(probe.forces().iter().all(|f| f.is_finite()));
+    assert!(probe.value(Quantity::Energy).unwrap().is_finite());
+    m.set_value(Quantity::Velocity(0), 1.0).unwrap();
+    m.set_input_derivative(Quantity::Velocity(0), 0.0).unwrap();
+    assert_eq!(m.state(), &before);
+    // A tiny time mismatch (rounding) is accepted.
+    m.step(0.1 + 1e-15, 0.1).unwrap();
+}
+
+#[test]
+fn new_matches_the_component_loaded_from_resources() {
+    // The same network from its canonical text: same system, state and GUID; an explicit
+    // GUID (what fmu-pack passes when hull.xml is packed too) is kept.
+    let network = Network::from_xml_str(TWO_DOF_NETWORK, "test.xml").unwrap();
+    for keep_inf_mass in [false, true] {
+        let resources = Resources::for_network(&network, None, keep_inf_mass);
+        let loaded = Model::from_resources(&resources).unwrap();
+        let built = model(TWO_DOF_NETWORK, keep_inf_mass);
+        assert_eq!(built.guid(), resources.guid());
+        assert_eq!(loaded.guid(), built.guid());
+        assert_eq!(loaded.system(), built.system());
+        assert_eq!(loaded.state(), built.state());
+    }
+    let options = ModelOptions {
+        keep_inf_mass: false,
+        guid: Some("{given}".into()),
+    };
+    assert_eq!(Model::new(&network, options).unwrap().guid(), "{given}");
+}
+
+#[test]
+fn bad_resources_are_refused() {
+    let resources =
+        Resources::new("<network/>".into(), None, Resources::options_text(false)).unwrap();
+    assert!(Model::from_resources(&resources).is_err());
+    let err = Model::load(Path::new("/nonexistent/resources")).unwrap_err();
+    assert!(
+        err.to_string().starts_with("resources: cannot read"),
+        "{err}"
+    );
+}
