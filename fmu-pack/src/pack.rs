@@ -20,7 +20,8 @@ use crate::scene::SceneText;
 use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::fmu::description::FIXED_XML;
 use hydrofmu::fmu::{DescriptionInfo, Layout, Resources};
-use hydrofmu::model::Model;
+use hydrofmu::model::{Model, ModelOptions};
+use hydrofmu::realize::Network;
 use hydrofmu::scene::{Band, Scene, SceneReport};
 use std::fmt;
 use std::io::{Read, Write};
@@ -157,7 +158,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let hull = HullInfo::new(&resolved);
     let mut report = None;
-    let network_xml = match &args.network {
+    let network = match &args.network {
         Some(path) => {
             if args.band.is_some()
                 || args.tol.is_some()
@@ -170,8 +171,9 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                         .into(),
                 ));
             }
-            std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?;
+            PackedNetwork::from_text(text, &path.display().to_string())?
         }
         None => {
             let band = match &args.band {
@@ -196,9 +198,9 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
             };
             let built = pipeline::build_network(scene)?;
             let scene = built.report();
-            let xml = built.fit.network.to_xml_string();
+            let network = PackedNetwork::from_network(built.fit.network.clone());
             report = Some(Fitted { built, scene });
-            xml
+            network
         }
     };
     let binary = locate_binary(args.binary.as_deref())?;
@@ -208,13 +210,33 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     };
     pack_network(
         &hull,
-        &network_xml,
+        &network,
         args.keep_inf_mass,
         &binary,
         &identifier,
         &args.output,
         report.as_ref(),
     )
+}
+
+/// The network to pack and the text of its `resources/network.xml`.
+pub struct PackedNetwork {
+    network: Network,
+    xml: String,
+}
+
+impl PackedNetwork {
+    /// A network file's text, parsed once and packed verbatim (`source` names it in errors).
+    pub fn from_text(xml: String, source: &str) -> Result<PackedNetwork, PackError> {
+        let network = Network::from_xml_str(&xml, source).map_err(|e| e.to_string())?;
+        Ok(PackedNetwork { network, xml })
+    }
+
+    /// A computed network, packed in its canonical text.
+    pub fn from_network(network: Network) -> PackedNetwork {
+        let xml = network.to_xml_string();
+        PackedNetwork { network, xml }
+    }
 }
 
 /// The scene report inside the archive (plain text; `fmu-pack inspect` prints it).
@@ -239,17 +261,20 @@ pub fn identifier_from_path(path: &Path) -> String {
 /// Packs a network for a hull into `output` (the lower-level entry point).
 pub fn pack_network(
     hull: &HullInfo,
-    network_xml: &str,
+    network: &PackedNetwork,
     keep_inf_mass: bool,
     binary: &Path,
     model_identifier: &str,
     output: &Path,
     fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
-    let resources =
-        Resources::with_options(network_xml.to_string(), hull.xml.clone(), keep_inf_mass);
-    // Parses network.xml once; the GUID is that of the packed texts.
-    let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
+    let resources = Resources::with_options(network.xml.clone(), hull.xml.clone(), keep_inf_mass);
+    // The GUID is that of the packed texts.
+    let options = ModelOptions {
+        keep_inf_mass,
+        guid: Some(resources.guid()),
+    };
+    let model = Model::new(&network.network, options).map_err(|e| e.to_string())?;
     let mut units = Vec::new();
     for name in model.dof_names() {
         let unit = hull.dofs.iter().find(|d| &d.name == name).ok_or_else(|| {
@@ -752,6 +777,10 @@ mod tests {
         }
     }
 
+    fn net(text: &str) -> PackedNetwork {
+        PackedNetwork::from_text(text.to_string(), "test network").unwrap()
+    }
+
     #[test]
     fn the_archive_has_the_fmi_layout_and_matching_guid() {
         let dir = temp_dir("layout");
@@ -760,7 +789,7 @@ mod tests {
         let out = dir.join("Seed-1.fmu");
         let id = identifier_from_path(&out);
         assert_eq!(id, "Seed_1");
-        let summary = pack_network(&hull(), SEED, false, &binary, &id, &out, None).unwrap();
+        let summary = pack_network(&hull(), &net(SEED), false, &binary, &id, &out, None).unwrap();
         assert_eq!(summary.dofs, vec!["sway".to_string()]);
         assert_eq!(summary.states, 4);
         let found = inspect(&out).unwrap();
@@ -805,9 +834,17 @@ mod tests {
         let binary = dir.join("lib.so");
         std::fs::write(&binary, b"x").unwrap();
         let pack = |net: &str, h: &HullInfo, keep: bool, name: &str| {
-            pack_network(h, net, keep, &binary, "M", &dir.join(name), None)
-                .unwrap()
-                .guid
+            pack_network(
+                h,
+                &self::net(net),
+                keep,
+                &binary,
+                "M",
+                &dir.join(name),
+                None,
+            )
+            .unwrap()
+            .guid
         };
         let other_net = SEED.replace("0.1153", "0.1154");
         let mut other_hull = hull();
@@ -828,13 +865,15 @@ mod tests {
         let out = dir.join("x.fmu");
         let mut h = hull();
         h.dofs.remove(0);
-        let e = pack_network(&h, SEED, false, &binary, "X", &out, None).unwrap_err();
+        let e = pack_network(&h, &net(SEED), false, &binary, "X", &out, None).unwrap_err();
         assert!(e.0.contains("'sway' is not a DOF"), "{e}");
-        let e = pack_network(&hull(), "<nonsense", false, &binary, "X", &out, None).unwrap_err();
+        let e = PackedNetwork::from_text("<nonsense".into(), "network.xml")
+            .err()
+            .unwrap();
         assert!(e.0.contains("network"), "{e}");
         let e = pack_network(
             &hull(),
-            SEED,
+            &net(SEED),
             false,
             &dir.join("missing.so"),
             "X",
