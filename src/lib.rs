@@ -26,6 +26,7 @@ pub mod hull;
 pub mod identify;
 pub mod model;
 pub mod model_description;
+pub mod numerics;
 pub mod panels;
 pub mod plot;
 pub mod realize;
