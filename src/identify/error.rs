@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-/// Errors of [`fit`].
+/// Errors of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
 pub enum IdentifyError {
     /// The frequency response is unusable (sizes, NaN, non-physical `A_inf`).

@@ -4,7 +4,7 @@ use nalgebra::DMatrix;
 
 use crate::realize::{Network, NetworkForm};
 
-/// Settings of [`fit`].
+/// Settings of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitParams {
     /// Network form; `None` (default): automatic. Several DOFs: [`NetworkForm::Coupled`].
@@ -59,7 +59,7 @@ impl Default for FitParams {
 /// Default tolerance: 1 % of the scale.
 pub const DEFAULT_TOLERANCE: f64 = 0.01;
 
-/// Result of [`fit`].
+/// Result of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitReport {
     /// The fitted network (valid, passive).
