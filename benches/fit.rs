@@ -35,6 +35,7 @@ fn fits(c: &mut Criterion) {
     let data = semicircle();
     let sway = data.select(&["sway"]).expect("sway");
     let chain = FitParams {
+        form: Some(NetworkForm::SeriesChain),
         band: (omega(0.01) * 0.999, omega(4.0) * 1.001),
         order: Some(2),
         ..FitParams::default()
@@ -43,7 +44,7 @@ fn fits(c: &mut Criterion) {
         b.iter(|| identify::fit(black_box(&sway), &chain).expect("fit"))
     });
     let coupled = FitParams {
-        form: NetworkForm::Coupled,
+        form: Some(NetworkForm::Coupled),
         band: (omega(0.05) * 0.999, omega(4.0) * 1.001),
         ..FitParams::default()
     };

@@ -641,6 +641,7 @@ fn identification(doc: &mut String, semi: &SweepResult) {
     let mut two_dof_ratio = f64::NAN;
     for order in 1..=3 {
         let params = FitParams {
+            form: Some(hydrofmu::realize::NetworkForm::SeriesChain),
             band,
             order: Some(order),
             ..FitParams::default()

@@ -30,6 +30,7 @@ pub mod model;
 pub mod model_description {
     pub use crate::fmu::description::*;
 }
+pub mod numerics;
 pub mod panels;
 pub mod plot;
 pub mod realize;

@@ -44,6 +44,7 @@ fn omega_of(kr: f64) -> f64 {
 fn semicircle_sway_two_mass_chain_is_within_one_percent() {
     let sway = semicircle().select(&["sway"]).unwrap();
     let params = FitParams {
+        form: Some(NetworkForm::SeriesChain),
         band: (omega_of(0.01) * 0.999, omega_of(4.0) * 1.001),
         order: Some(2),
         ..FitParams::default()
@@ -65,7 +66,7 @@ fn semicircle_full_coupled_network_is_within_one_percent_per_entry() {
     // The fmu-pack default: all 9 DOFs, the default tolerance (1 % of sqrt(s_i s_j)), band
     // from kR 0.05 to the sweep's end (4.5 here, 5 in fmu-pack).
     let params = FitParams {
-        form: NetworkForm::Coupled,
+        form: Some(NetworkForm::Coupled),
         band: (omega_of(0.05) * 0.999, omega_of(4.5) * 1.001),
         ..FitParams::default()
     };
@@ -126,6 +127,7 @@ fn net_flux_modes_with_log_divergent_added_mass_fit_within_their_band() {
     for dof in ["heave", "cb2", "cb5"] {
         let data = semicircle().select(&[dof]).unwrap();
         let params = FitParams {
+            form: Some(NetworkForm::SeriesChain),
             band: (omega_of(0.01) * 0.999, omega_of(4.0) * 1.001),
             ..FitParams::default()
         };
@@ -156,7 +158,11 @@ fn submerged_circle_with_negative_added_mass_fits_within_tolerance() {
         .unwrap();
     // The data does have negative added mass over a band.
     assert!(data.added_mass.iter().any(|m| m[(0, 0)].re < 0.0));
-    let report = identify::fit(&data, &FitParams::default()).unwrap();
+    let chain = FitParams {
+        form: Some(NetworkForm::SeriesChain),
+        ..FitParams::default()
+    };
+    let report = identify::fit(&data, &chain).unwrap();
     assert!(report.tolerance_met, "{}", report.max_relative_error);
     assert_stable(&report.network);
 }
@@ -198,6 +204,7 @@ fn over_fitted_orders_are_refused_and_automatic_fits_stay_resolvable() {
     let forced = identify::fit(
         &sway,
         &FitParams {
+            form: Some(NetworkForm::SeriesChain),
             band,
             order: Some(6),
             ..FitParams::default()
@@ -218,7 +225,7 @@ fn over_fitted_orders_are_refused_and_automatic_fits_stay_resolvable() {
         let report = identify::fit(
             data,
             &FitParams {
-                form,
+                form: Some(form),
                 band,
                 ..FitParams::default()
             },

@@ -79,7 +79,7 @@ fn fit(
     identify::fit(
         data,
         &FitParams {
-            form,
+            form: Some(form),
             band,
             order,
             ..FitParams::default()
@@ -218,7 +218,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     let mut rows = |label: &str, form, order: usize, data: &FrequencyResponse| {
         eprintln!("{label}, order {order} ...");
         let forced = FitParams {
-            form,
+            form: Some(form),
             band,
             order: Some(order),
             ..FitParams::default()

@@ -386,9 +386,11 @@ impl BuiltScene {
             band: self.band,
             tolerance: self.scene.tolerance,
             order: self.scene.order,
+            form: self.scene.form,
             ..FitParams::default()
         };
-        let (report, notes) = automatic_form_fit(&response.fitted, &params, self.scene.form)?;
+        let report = identify::fit(&response.fitted, &params)?;
+        let notes = report.notes.clone();
         Ok(SceneFit { report, notes })
     }
 
@@ -402,48 +404,6 @@ impl BuiltScene {
             self.nyquist_cut,
         )
     }
-}
-
-/// TEMPORARY: the automatic network form, until [`identify::fit`] chooses it itself
-/// (`FitParams::form: None`, the note in its report). Given `form` as is; otherwise a series
-/// chain for one DOF and, if it misses the tolerance, the parallel bank when that does
-/// better; the coupled network for several DOFs.
-fn automatic_form_fit(
-    data: &FrequencyResponse,
-    params: &FitParams,
-    form: Option<NetworkForm>,
-) -> Result<(FitReport, Vec<String>), IdentifyError> {
-    let chosen = form.unwrap_or(if data.dof_count() == 1 {
-        NetworkForm::SeriesChain
-    } else {
-        NetworkForm::Coupled
-    });
-    let params = FitParams {
-        form: chosen,
-        ..params.clone()
-    };
-    let mut fit = identify::fit(data, &params)?;
-    let mut notes = Vec::new();
-    if form.is_none() && chosen == NetworkForm::SeriesChain && !fit.tolerance_met {
-        let bank = FitParams {
-            form: NetworkForm::ParallelBank,
-            ..params.clone()
-        };
-        if let Ok(other) = identify::fit(data, &bank) {
-            let better = (other.tolerance_met, -other.max_relative_error)
-                > (fit.tolerance_met, -fit.max_relative_error);
-            if better {
-                notes.push(format!(
-                    "the series chain misses the tolerance ({:.2} %); the parallel bank meets \
-                     it better ({:.2} %) and is used",
-                    100.0 * fit.max_relative_error,
-                    100.0 * other.max_relative_error
-                ));
-                fit = other;
-            }
-        }
-    }
-    Ok((fit, notes))
 }
 
 #[cfg(test)]

@@ -1,0 +1,245 @@
+//! Identification of a passive equivalent mass-spring-damper network from the complex added
+//! mass `A~(omega)` (seed, section 4).
+//!
+//! # Target and error
+//!
+//! Input: [`FrequencyResponse`], the panel method's `A~(omega) = a(omega) - i b(omega) / omega`
+//! (time factor `exp(+i omega t)`, SI, symmetric n x n) on a frequency grid, and `A_inf`. The
+//! network of [`crate::realize`] has the added mass transfer function
+//! `H(s) = A_inf + sum_b d_b d_b^T G_b(s)`, and the force on the hull by the water is
+//! `F = -s^2 H(s) q`, the same map as `F = -s^2 A~ q` (Cummins' equation with `s = i omega`), so
+//! `H(i omega)` must approximate `A~(omega)`. `m0 = A_inf` is taken from the data and never
+//! fitted (seed: `H(s -> inf) = m0`). The fit minimizes the seed's error (eq. 17),
+//!
+//! ```text
+//! e = sum_omega sum_ij [ (Re A~_ij - Re H_ij)^2 + (Im A~_ij - Im H_ij)^2 ] / (s_i s_j),
+//! s_i = max over the band of |A~_ii(omega)|,
+//! ```
+//!
+//! over the frequency points inside `FitParams::band`. The normalization by `sqrt(s_i s_j)`
+//! weighs every matrix entry by its natural scale, so weak couplings neither dominate nor get
+//! lost. For one DOF it is the constant `s = max |A~|` (the seed's plain error, eq. 17). A DOF
+//! that moves (almost) no water, like the roll of a circle about its centre, has `s_i` raised
+//! to [`SCALE_FLOOR`] times the largest `s_j`, so its entries are fitted in absolute terms.
+//! Reported errors are absolute (`FitReport::max_error`, `rms_error`, in A~ units per entry);
+//! the tolerance is a fraction of the fixed scale `sqrt(s_i s_j)`, so it bounds the absolute
+//! error, not the error relative to each point's value. Default: 1 % (for one DOF: 1 % of the
+//! largest |A~| in the band).
+//!
+//! # Passive by construction
+//!
+//! Every stage value is parameterized by its logarithm (`m = exp(p)` and so on), and the
+//! coupled form's weight matrices are PSD (projected onto the cone, then factored), so every
+//! network the fitter can return has `m, k, c > 0`: passive and reciprocal (see
+//! [`crate::realize`]). `A_inf` is symmetrized and, if it has slightly negative eigenvalues
+//! (discretization), clipped to PSD (`FitReport::added_mass_inf_adjustment`).
+//!
+//! # Algorithms (deterministic)
+//!
+//! Frequencies are scaled by `omega_ref = sqrt(omega_lo omega_hi)` of the band and masses by
+//! `s_i`, so all parameters are O(1).
+//!
+//! * Series chain and parallel bank (one DOF): Levenberg-Marquardt (hand-written) on the log
+//!   parameters with the analytic Jacobian of the chain recursion. Starting points: the fit of
+//!   one order less with a stage or branch added (a continuation, so a higher order is never
+//!   worse), and a physically motivated grid (stage frequencies log-spaced across the band,
+//!   damping ratios 0.5 and 1.5; parallel-bank masses from non-negative least squares). Only if
+//!   the tolerance is not met: `FitParams::restarts` random starts from a fixed seed (bitwise
+//!   reproducible).
+//! * Coupled (n DOFs): branches whose chain dynamics are shared in groups. A group `p` is a
+//!   chain with first mass 1 and dynamic mass `g_p(s)` (one stage:
+//!   `g_p = (k_p + c_p s) / (s^2 + c_p s + k_p)`), weighted by a PSD matrix `W_p`:
+//!   `H = A_inf + sum_p W_p g_p(s)`. Each `W_p = sum_r lambda_r v_r v_r^T` becomes one branch per
+//!   eigenvalue (direction `v_r`, the chain scaled by `lambda_r`). The order of a coupled fit
+//!   is the number of groups; its auxiliary DOFs are the ranks times the stages. The fit works
+//!   in the subspace the normalized data span (e.g. 6 of the 9 DOFs of a hull whose rigid
+//!   motions are combinations of its Craig-Bampton modes). Two paths per order, the network
+//!   with the fewest auxiliary DOFs that meets the tolerance wins:
+//!   1. Variable projection: LM on the one-stage groups' `ln k_p, ln c_p` with the `W_p`
+//!      solved by linear least squares for every entry at once (Kaufman's Jacobian), started
+//!      from a parallel-bank fit of the mean normalized diagonal, a log-spaced grid, and the
+//!      previous order's groups. Exact for data made by such a network. It stops being tried
+//!      once it falls far behind path 2.
+//!   2. Dictionary: 80 two-stage band-pass chains (tiny first damper) spread over the band get
+//!      PSD weights at once; the `order` groups that carry the most response are kept.
+//!
+//!   In both, the `W_p` are solved under `W_p >= 0` (accelerated projected gradient, convex),
+//!   then the groups' chain values and factors `W_p = L_p L_p^T` are refined jointly by LM
+//!   (passive at every step) until the tolerance is met or the error stalls. The refinement
+//!   aims at the largest error, not the sum of squares: every 5 iterations the rows of band
+//!   point k are reweighted by `rho_k <- rho_k sqrt(e_k / max_k e_k)` (Lawson's minimax
+//!   iteration, damped; `e_k` the largest normalized entry error at point k), and the iterate
+//!   with the smallest largest error is kept. Why groups of band-pass chains: the damping
+//!   `b(omega)` of a 2D hull has rank 2 (one symmetric and one antisymmetric wave) and its
+//!   principal directions turn with frequency. A branch only adds damping along its own
+//!   direction, so following a turning direction takes branches whose damping is confined to
+//!   a band; one-mass branches keep damping `c` up to infinite frequency and cannot (on the
+//!   semicircle's 9 DOFs they stall near 4 % error).
+//! * Invariant blocks (coupled): a mirror-symmetric hull's data is block diagonal in a
+//!   suitable orthogonal basis of DOF space (symmetric and antisymmetric motions), and each
+//!   block is fitted on its own, its damping of rank 1. The blocks are found from the data,
+//!   without knowledge of the hull: in the reduced subspace (dimension r) the commutant
+//!
+//!   ```text
+//!   C = { X = X^T :  X M = M X  for every M in { Re T(omega_k), Im T(omega_k) } },
+//!   ```
+//!
+//!   `T` the normalized target, is the null space of a linear least-squares problem in the
+//!   `r (r + 1) / 2` entries of `X` (right singular vectors whose singular value is below
+//!   1e-6 of the largest; `X = I` is always in it). If `dim C >= 2`, every eigenspace of a
+//!   generic element `X = sum_q c_q X_q` (fixed pseudo-random `c_q`) is invariant under every
+//!   `T(omega)`; its eigenvectors give an orthogonal `Q = [Q_1 .. Q_m]` with
+//!   `Q^T T(omega) Q = diag(T_1(omega), .., T_m(omega))`. Block b is fitted by the machinery
+//!   above on `T_b` with its branch directions mapped back, `d = S^(1/2) basis Q_b v`
+//!   (normalized), and the branches of all blocks form one network (`A_inf` unchanged, not
+//!   fitted, so not part of the commutant). The split is used only if the couplings it drops
+//!   stay below 1e-3 of the tolerance. The blocks' errors add up in the DOFs they share (the
+//!   semicircle's `cb1` is half symmetric, half antisymmetric), so every block first gets the
+//!   tolerance, then, while the joined network misses it, the blocks' tolerance is scaled by
+//!   `0.95 tol / error` (at most 4 rounds; each block continues from its previous order). A
+//!   fixed `order` applies to every block. The semicircle's data is mirror-symmetric to
+//!   rounding (singular values 1e-15 against 7e-3 of the largest for the first genuine
+//!   coupling); a DOF that moves no water (its roll) lies outside the reduced subspace and
+//!   gets no branch.
+//! * Pruning (coupled): the branches are tried for removal in order of their largest
+//!   normalized contribution `max_band |G_b(i omega)| max_i d_i^2 / s_i`; a branch goes if the
+//!   network without it still meets the tolerance (if the tolerance is not met: if the error
+//!   does not grow). The reported order is the number of distinct chain dynamics left.
+//!
+//! Automatic order: orders 1, 2, ... `max_order`; the first one whose largest normalized error
+//! is within the tolerance is returned. If none is, the fit with the smallest error is
+//! returned with `tolerance_met = false`.
+//!
+//! Automatic form (`FitParams::form = None`): several DOFs get the coupled form. One DOF gets
+//! the series chain; if it misses the tolerance, the parallel bank is fitted as well and
+//! replaces it if it is better, comparing `(tolerance_met, -max_relative_error)`; the report
+//! then says so in `FitReport::notes`.
+//!
+//! # Layout
+//!
+//! - `response`: the input [`FrequencyResponse`]; `error`: [`IdentifyError`].
+//! - `params`: [`FitParams`] and [`FitReport`].
+//! - `problem`: the normalized problem, its errors and the report; [`dof_scales`] and the
+//!   rate limit ([`fastest_rate`]).
+//! - `chain`: the chain recursion and its log-parameter derivatives.
+//! - `single_dof`: series chain and parallel bank.
+//! - `coupled/`: the coupled form (blocks, groups, weights, the two paths, refinement,
+//!   branches).
+//!
+//! The hydrodynamics-free numerics (least squares, NNLS, PSD projection, random starts) are in
+//! [`crate::numerics`].
+
+mod chain;
+mod coupled;
+mod error;
+mod params;
+mod problem;
+mod response;
+mod single_dof;
+#[cfg(test)]
+mod tests;
+
+pub use crate::realize::NetworkForm;
+pub use error::IdentifyError;
+pub use params::{FitParams, FitReport, DEFAULT_TOLERANCE};
+pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
+pub use response::FrequencyResponse;
+
+use problem::Problem;
+
+/// Fits a network to `data` (see the module docs): of `params.form`, or of the automatic form
+/// if it is `None`.
+pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, IdentifyError> {
+    match params.form {
+        Some(form) => fit_form(data, params, form),
+        None if data.dof_count() == 1 => fit_one_dof_automatic(data, params),
+        None => fit_form(data, params, NetworkForm::Coupled),
+    }
+}
+
+/// One DOF, no form given: the series chain; if it misses the tolerance, the parallel bank
+/// too, and the better of the two by `(tolerance_met, -max_relative_error)`. A failed bank
+/// fit leaves the chain.
+fn fit_one_dof_automatic(
+    data: &FrequencyResponse,
+    params: &FitParams,
+) -> Result<FitReport, IdentifyError> {
+    let chain = fit_form(data, params, NetworkForm::SeriesChain)?;
+    if chain.tolerance_met {
+        return Ok(chain);
+    }
+    let Ok(mut bank) = fit_form(data, params, NetworkForm::ParallelBank) else {
+        return Ok(chain);
+    };
+    let better = (bank.tolerance_met, -bank.max_relative_error)
+        > (chain.tolerance_met, -chain.max_relative_error);
+    if !better {
+        return Ok(chain);
+    }
+    bank.notes.push(format!(
+        "the series chain misses the tolerance ({:.2} %); the parallel bank meets it better \
+         ({:.2} %) and is used",
+        100.0 * chain.max_relative_error,
+        100.0 * bank.max_relative_error
+    ));
+    Ok(bank)
+}
+
+/// Fits a network of the given form.
+fn fit_form(
+    data: &FrequencyResponse,
+    params: &FitParams,
+    form: NetworkForm,
+) -> Result<FitReport, IdentifyError> {
+    data.validate()?;
+    let tolerance = params.tolerance.unwrap_or(DEFAULT_TOLERANCE);
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(IdentifyError::InvalidParams(format!(
+            "tolerance must be finite and > 0, got {tolerance}"
+        )));
+    }
+    if params.max_order == 0 {
+        return Err(IdentifyError::InvalidParams(
+            "max_order must be >= 1".into(),
+        ));
+    }
+    if let Some(order) = params.order {
+        if order == 0 || order > params.max_order {
+            return Err(IdentifyError::InvalidParams(format!(
+                "order {order} is outside 1..={}",
+                params.max_order
+            )));
+        }
+    }
+    if let Some(stages) = params.coupled_stages {
+        if !(1..=4).contains(&stages) {
+            return Err(IdentifyError::InvalidParams(format!(
+                "coupled_stages must be 1 to 4, got {stages}"
+            )));
+        }
+    }
+    if form.is_single_dof() && data.dof_count() != 1 {
+        return Err(IdentifyError::InvalidParams(format!(
+            "form {form} fits one DOF but the data has {} (use FrequencyResponse::select, or \
+             the coupled form)",
+            data.dof_count()
+        )));
+    }
+    let problem = Problem::new(data, params.band)?;
+    let (order, network, iterations) = if form == NetworkForm::Coupled {
+        problem.fit_coupled_network(params, tolerance)?
+    } else {
+        problem.fit_single_dof(params, form, tolerance)?
+    };
+    // Every form keeps its networks within the rate limit; stated once for all of them.
+    let rate = fastest_rate(&network);
+    if rate > problem.rate_limit() {
+        return Err(problem.over_fit_error(order, rate));
+    }
+    network.validate().map_err(|e| {
+        IdentifyError::InvalidData(format!(
+            "the fitted network is not valid ({e}); check the data"
+        ))
+    })?;
+    Ok(problem.report(network, order, tolerance, iterations))
+}

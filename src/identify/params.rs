@@ -1,0 +1,96 @@
+//! Settings and result of [`fit`](super::fit).
+
+use nalgebra::DMatrix;
+
+use crate::realize::{Network, NetworkForm};
+
+/// Settings of [`fit`](super::fit).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitParams {
+    /// Network form; `None` (default): automatic. Several DOFs: [`NetworkForm::Coupled`].
+    /// One DOF: [`NetworkForm::SeriesChain`] (the seed's form); if it misses the tolerance,
+    /// [`NetworkForm::ParallelBank`] is fitted too and replaces it if it is better by
+    /// `(tolerance_met, -max_relative_error)`, said in [`FitReport::notes`]. The single-DOF
+    /// forms need one-DOF data (see
+    /// [`FrequencyResponse::select`](super::FrequencyResponse::select)).
+    pub form: Option<NetworkForm>,
+    /// Frequency band (rad/s), inclusive; default `(0, inf)`: every data point.
+    pub band: (f64, f64),
+    /// Admissible largest error as a fraction of `sqrt(s_i s_j)` (see the module docs);
+    /// `None`: 0.01.
+    pub tolerance: Option<f64>,
+    /// Fixed order (auxiliary masses for one DOF, groups for the coupled form, per invariant
+    /// block if the data has such blocks); `None`: automatic, the smallest order that meets
+    /// the tolerance.
+    pub order: Option<usize>,
+    /// Largest order tried (per invariant block for the coupled form). Default 12.
+    pub max_order: usize,
+    /// Levenberg-Marquardt iterations per start (and per joint refinement). Default 300.
+    pub max_iterations: usize,
+    /// Random starts per order, single-DOF forms, only when the deterministic starts miss the
+    /// tolerance, and then only at orders up to 3 or when they came within 4 times the
+    /// tolerance (a local minimum, not a too-low order). Default 12.
+    pub restarts: usize,
+    /// Seed of the random starts. Default 1.
+    pub seed: u64,
+    /// Coupled form: `None` (default) tries both paths of the module docs (one-stage groups by
+    /// variable projection, two-stage groups from the dictionary); `Some(1)` only the first;
+    /// `Some(2)` the dictionary and two-stage variable projection; `Some(3 | 4)` variable
+    /// projection with that many stages.
+    pub coupled_stages: Option<usize>,
+}
+
+impl Default for FitParams {
+    fn default() -> Self {
+        FitParams {
+            form: None,
+            band: (0.0, f64::INFINITY),
+            tolerance: None,
+            order: None,
+            max_order: 12,
+            max_iterations: 300,
+            restarts: 12,
+            seed: 1,
+            coupled_stages: None,
+        }
+    }
+}
+
+/// Default tolerance: 1 % of the scale.
+pub const DEFAULT_TOLERANCE: f64 = 0.01;
+
+/// Result of [`fit`](super::fit).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitReport {
+    /// The fitted network (valid, passive).
+    pub network: Network,
+    /// Order: auxiliary masses (single-DOF forms) or distinct chain dynamics (coupled form,
+    /// summed over its invariant blocks, after pruning).
+    pub order: usize,
+    /// Auxiliary masses of the network.
+    pub aux_dofs: usize,
+    /// Largest `|A~_ij - H_ij|` over the band, per entry (A~ units).
+    pub max_error: DMatrix<f64>,
+    /// RMS of `|A~_ij - H_ij|` over the band points, per entry.
+    pub rms_error: DMatrix<f64>,
+    /// `sqrt(s_i s_j)`, `s_i = max_band |A~_ii|`: the scale of the tolerance.
+    pub error_scale: DMatrix<f64>,
+    /// Largest `max_error / error_scale` over the entries.
+    pub max_relative_error: f64,
+    /// The tolerance used (fraction of `error_scale`).
+    pub tolerance: f64,
+    /// Whether `max_relative_error <= tolerance`.
+    pub tolerance_met: bool,
+    /// First and last frequency of the data inside the requested band (rad/s).
+    pub band: (f64, f64),
+    /// Number of frequency points fitted.
+    pub points: usize,
+    /// Levenberg-Marquardt iterations, summed over all starts and orders.
+    pub iterations: usize,
+    /// Largest change made to `A_inf` to make it symmetric PSD.
+    pub added_mass_inf_adjustment: f64,
+    /// What the automatic form decided, one sentence each (the parallel bank replacing a
+    /// series chain that misses the tolerance); empty otherwise. The form used is
+    /// `network.form`.
+    pub notes: Vec<String>,
+}
