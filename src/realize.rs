@@ -39,7 +39,9 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-pub use crate::network::{Branch, Network, NetworkError, NetworkForm, Stage, NETWORK_FORMAT_VERSION};
+pub use crate::network::{
+    Branch, Network, NetworkError, NetworkForm, Stage, NETWORK_FORMAT_VERSION,
+};
 
 /// Augmented mass, damping and stiffness matrices (seed eq. 19 layout, hull DOFs first).
 #[derive(Clone, Debug, PartialEq)]

@@ -65,7 +65,8 @@ impl std::error::Error for XmlError {}
 
 /// One element: its name, attributes (in document order, values unescaped), child elements,
 /// the text directly inside it (unescaped, all pieces joined, whitespace kept) and its line.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Trees from [`parse`] are at most [`MAX_DEPTH`] deep; dropping one of any depth is iterative.
+#[derive(Debug)]
 pub struct Element {
     /// Element name as written (with any prefix).
     pub name: String,
@@ -108,12 +109,8 @@ impl Element {
 
     /// The value of attribute `key`; missing is an error.
     pub fn required(&self, key: &str) -> Result<&str, XmlError> {
-        self.attribute(key).ok_or_else(|| {
-            self.error(format!(
-                "<{}> is missing the attribute {key}",
-                self.name
-            ))
-        })
+        self.attribute(key)
+            .ok_or_else(|| self.error(format!("<{}> is missing the attribute {key}", self.name)))
     }
 
     /// Attribute `key` as a finite number; missing or not a finite number is an error.
@@ -256,9 +253,10 @@ fn unescape_at(raw: &str) -> Result<String, (usize, String)> {
     let mut done = 0;
     while let Some(amp) = raw[done..].find('&').map(|k| done + k) {
         out.push_str(&raw[done..amp]);
-        let semi = raw[amp..].find(';').map(|k| amp + k).ok_or_else(|| {
-            (amp, format!("'&' without a closing ';' in \"{raw}\""))
-        })?;
+        let semi = raw[amp..]
+            .find(';')
+            .map(|k| amp + k)
+            .ok_or_else(|| (amp, format!("'&' without a closing ';' in \"{raw}\"")))?;
         let entity = &raw[amp + 1..semi];
         let c = match entity {
             "lt" => '<',
@@ -354,7 +352,11 @@ fn is_xml_char(c: char) -> bool {
 /// 1-based line of byte `pos`, counted from the start.
 fn line_of(text: &str, pos: usize) -> usize {
     let end = pos.min(text.len());
-    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    text.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
 }
 
 /// Line numbers of increasing positions, counting each byte once.
@@ -630,14 +632,26 @@ mod tests {
         let e = p.required_number("y").unwrap_err();
         assert_eq!(e.line, 2);
         assert_eq!(e.message, "y=\"nan\" in <p> is not a finite number");
-        assert!(p.required_number("z").unwrap_err().message.ends_with("is not a number"));
-        assert!(p.required_number("w").unwrap_err().message.ends_with("is not a number"));
+        assert!(p
+            .required_number("z")
+            .unwrap_err()
+            .message
+            .ends_with("is not a number"));
+        assert!(p
+            .required_number("w")
+            .unwrap_err()
+            .message
+            .ends_with("is not a number"));
         let e = p.required("v").unwrap_err();
         assert_eq!(e.message, "<p> is missing the attribute v");
         let e = p.only_attributes(&["x", "y", "z"]).unwrap_err();
         assert_eq!(e.message, "unknown attribute w in <p>; allowed: x, y, z");
         assert!(p.only_attributes(&["x", "y", "z", "w"]).is_ok());
-        assert!(root.no_children().unwrap_err().message.contains("<r> cannot contain <p>"));
+        assert!(root
+            .no_children()
+            .unwrap_err()
+            .message
+            .contains("<r> cannot contain <p>"));
         let row = parse("<row>\n 1 2.5\n -3e2 </row>").unwrap();
         assert_eq!(row.text_numbers(), Ok(vec![1.0, 2.5, -300.0]));
         assert_eq!(row.text_line, 2);
@@ -661,14 +675,22 @@ mod tests {
             ("\n\n", 3, "no root element"),
             ("<a/>\ntext", 2, "text outside the root element"),
             ("<a>\n&foo;</a>", 2, "unknown entity &foo;"),
-            ("<a>\n&#0;</a>", 2, "&#0; in \"\n&#0;\" is not a character XML allows"),
+            (
+                "<a>\n&#0;</a>",
+                2,
+                "&#0; in \"\n&#0;\" is not a character XML allows",
+            ),
             ("<a>\n&#x+41;</a>", 2, "is not a character"),
             ("<a>\n a & b</a>", 2, "'&' without a closing ';'"),
             ("<a\n x=\"&bar;\"/>", 1, "x in <a>: unknown entity &bar;"),
             ("<a x=\"1\" x=\"2\"/>", 1, "bad attribute in <a>"),
             ("<a x=1/>", 1, "bad attribute in <a>"),
             ("<a x=\"<\"/>", 1, "'<' in the value of x"),
-            ("<!DOCTYPE a [<!ENTITY e \"x\">]>\n<a>&e;</a>", 1, "DOCTYPE is not allowed"),
+            (
+                "<!DOCTYPE a [<!ENTITY e \"x\">]>\n<a>&e;</a>",
+                1,
+                "DOCTYPE is not allowed",
+            ),
             ("<a/>\n<?xml version=\"1.0\"?>", 2, "at the very start"),
             ("<a>\n<!-- a -- b -->\n</a>", 2, "malformed XML"),
             ("<a>\n\u{1}</a>", 2, "U+0001"),
@@ -678,7 +700,10 @@ mod tests {
             assert_eq!(e.line, line, "{text:?}: {e}");
             assert!(e.message.contains(words), "{text:?}: '{e}' lacks '{words}'");
         }
-        assert_eq!(error("<a>\n<b>").to_string(), "line 2: element <b> is not closed");
+        assert_eq!(
+            error("<a>\n<b>").to_string(),
+            "line 2: element <b> is not closed"
+        );
     }
 
     /// `<a>` nested `levels` deep, closed again.
@@ -759,7 +784,14 @@ mod tests {
 
     #[test]
     fn escape_and_unescape_round_trip() {
-        for text in ["", "plain", "a&b<c>\"d\"'e'", "&amp; literally", "ünïcode ✓", "&&;;"] {
+        for text in [
+            "",
+            "plain",
+            "a&b<c>\"d\"'e'",
+            "&amp; literally",
+            "ünïcode ✓",
+            "&&;;",
+        ] {
             let escaped = escape(text);
             assert!(!escaped.contains(['<', '>', '"', '\'']), "{escaped}");
             assert_eq!(unescape(&escaped).as_deref(), Ok(text));
@@ -769,7 +801,10 @@ mod tests {
             assert_eq!(root.text, text);
         }
         assert_eq!(escape("a&b<c>\"'"), "a&amp;b&lt;c&gt;&quot;&apos;");
-        assert_eq!(unescape("&#65;&#x42;&#x1F600;").as_deref(), Ok("AB\u{1F600}"));
+        assert_eq!(
+            unescape("&#65;&#x42;&#x1F600;").as_deref(),
+            Ok("AB\u{1F600}")
+        );
         assert!(unescape("&#xD800;").is_err());
         assert!(unescape("&#xFFFE;").is_err());
         assert!(unescape("&#;").is_err());
@@ -785,10 +820,25 @@ mod tests {
             (0.25, "0.25", "0.25", "2.5e-1"),
             (1e-4, "0.0001", "0.0001", "1e-4"),
             (1e-5, "1e-5", "1e-5", "1e-5"),
-            (1.1124201786327026e-7, "1.1124201786327026e-7", "1.1124201786327026e-7", "1.1124201786327026e-7"),
+            (
+                1.1124201786327026e-7,
+                "1.1124201786327026e-7",
+                "1.1124201786327026e-7",
+                "1.1124201786327026e-7",
+            ),
             (1e9, "1000000000.0", "1e9", "1e9"),
-            (1.5208184907274435e17, "1.5208184907274435e17", "1.5208184907274435e17", "1.5208184907274435e17"),
-            (-2.126192793053796e-13, "-2.126192793053796e-13", "-2.126192793053796e-13", "-2.126192793053796e-13"),
+            (
+                1.5208184907274435e17,
+                "1.5208184907274435e17",
+                "1.5208184907274435e17",
+                "1.5208184907274435e17",
+            ),
+            (
+                -2.126192793053796e-13,
+                "-2.126192793053796e-13",
+                "-2.126192793053796e-13",
+                "-2.126192793053796e-13",
+            ),
         ];
         for (x, float, plain, scientific) in cases {
             assert_eq!(format_number(x, Notation::Float), float);

@@ -86,7 +86,6 @@ impl Hull {
             notes: Vec::new(),
         })
     }
-
 }
 
 /// Checks H/R of a circle: 0 (semicircle) or above 1 (submerged).

@@ -20,9 +20,9 @@
 //!
 //! The built-in semicircle ([`Hull::semicircle`]) carries them as DOFs `cb1..cb6`.
 
-use super::Point;
 #[cfg(doc)]
 use super::Hull;
+use super::Point;
 use std::f64::consts::PI;
 
 /// (w, u, psi) of the beam deflection with coefficients `c` = (C1..C6) at `theta`:

@@ -312,7 +312,9 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                         })?;
                         let x = child.optional_number("x", 0.0).map_err(at)?;
                         let y = child.optional_number("y", 0.0).map_err(at)?;
-                        child.only_attributes(&["name", "kind", "x", "y"]).map_err(at)?;
+                        child
+                            .only_attributes(&["name", "kind", "x", "y"])
+                            .map_err(at)?;
                         child.no_children().map_err(at)?;
                         FileField::Rigid(kind, [x, y])
                     }

@@ -56,19 +56,13 @@ impl Network {
         }
         out.push_str("  <added_mass_inf>\n");
         for i in 0..self.added_mass_inf.nrows() {
-            let row: Vec<String> = self
-                .added_mass_inf
-                .row(i)
-                .iter()
-                .map(|&x| num(x))
-                .collect();
+            let row: Vec<String> = self.added_mass_inf.row(i).iter().map(|&x| num(x)).collect();
             out.push_str(&format!("    <row>{}</row>\n", row.join(" ")));
         }
         out.push_str("  </added_mass_inf>\n");
         for branch in &self.branches {
             out.push_str("  <branch>\n");
-            let direction: Vec<String> =
-                branch.direction.iter().map(|&x| num(x)).collect();
+            let direction: Vec<String> = branch.direction.iter().map(|&x| num(x)).collect();
             out.push_str(&format!(
                 "    <direction>{}</direction>\n",
                 direction.join(" ")
@@ -218,9 +212,9 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                     rows += 1;
                 }
                 if rows != n {
-                    return Err(child.error(format!(
-                        "<added_mass_inf> has {rows} rows, expected {n}"
-                    )));
+                    return Err(
+                        child.error(format!("<added_mass_inf> has {rows} rows, expected {n}"))
+                    );
                 }
                 added_mass_inf = Some(matrix);
             }
@@ -266,9 +260,7 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                 }
                 branches.push(Branch { direction, stages });
             }
-            other => {
-                return Err(child.error(format!("unexpected element <{other}> in <network>")))
-            }
+            other => return Err(child.error(format!("unexpected element <{other}> in <network>"))),
         }
     }
     let added_mass_inf =

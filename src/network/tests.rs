@@ -106,7 +106,6 @@ fn damping_is_positive_and_tf_symmetric() {
     }
 }
 
-
 #[test]
 fn scaling_maps_the_transfer_function() {
     let net = coupled_network();
@@ -229,8 +228,8 @@ fn xml_errors_name_file_line_and_problem() {
         assert!(e.starts_with("net.xml"), "{e}");
         assert!(e.contains(needle), "expected {needle:?} in {e}");
     }
-    let e = Network::from_xml_str(&good.replace("mass=\"0.1877\"", "mass=\"x\""), "f.xml")
-        .unwrap_err();
+    let e =
+        Network::from_xml_str(&good.replace("mass=\"0.1877\"", "mass=\"x\""), "f.xml").unwrap_err();
     // The second stage is on line 11 of the written file.
     assert!(
         matches!(e, NetworkError::File { line: Some(11), .. }),
