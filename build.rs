@@ -4,11 +4,14 @@
 //! `src/model_description.rs`. Any malformed or inconsistent declaration fails the build with a
 //! message naming the file, the line and the problem.
 
-use quick_xml::events::{BytesStart, Event};
-use quick_xml::Reader;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
+
+// The library's XML reader; its writing helpers are not needed here.
+#[path = "src/xml.rs"]
+#[allow(dead_code)]
+mod xml;
 
 const SOURCE: &str = "modelDescription/fixed.xml";
 /// Value references below this bound belong to the fixed variables.
@@ -40,6 +43,7 @@ struct Variable {
 fn main() {
     println!("cargo:rerun-if-changed={SOURCE}");
     println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=src/xml.rs");
     let text = match std::fs::read_to_string(SOURCE) {
         Ok(text) => text,
         Err(err) => fail(0, &format!("cannot read the file: {err}")),
@@ -61,83 +65,43 @@ fn fail(line: usize, problem: &str) -> ! {
     std::process::exit(1);
 }
 
-fn line_of(text: &str, byte: usize) -> usize {
-    text[..byte.min(text.len())].matches('\n').count() + 1
-}
-
-fn attributes(element: &BytesStart, line: usize) -> Vec<(String, String)> {
-    element
-        .attributes()
-        .map(|attribute| {
-            let attribute =
-                attribute.unwrap_or_else(|err| fail(line, &format!("malformed attribute: {err}")));
-            let key = String::from_utf8_lossy(attribute.key.as_ref()).into_owned();
-            let value = attribute
-                .unescape_value()
-                .unwrap_or_else(|err| fail(line, &format!("bad value of '{key}': {err}")))
-                .into_owned();
-            (key, value)
-        })
-        .collect()
-}
-
-fn get<'a>(attrs: &'a [(String, String)], key: &str, element: &str, line: usize) -> &'a str {
-    attrs
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
-        .unwrap_or_else(|| fail(line, &format!("<{element}> lacks the attribute '{key}'")))
-}
-
-fn number(value: &str, what: &str, line: usize) -> f64 {
-    match value.trim().parse::<f64>() {
-        Ok(x) if x.is_finite() => x,
-        _ => fail(line, &format!("{what} = '{value}' is not a finite number")),
-    }
+/// Stops the build at a problem of an element.
+fn check<T>(result: Result<T, xml::XmlError>) -> T {
+    result.unwrap_or_else(|e| fail(e.line, &e.message))
 }
 
 fn generate(text: &str) -> String {
-    let mut reader = Reader::from_str(text);
+    let root = check(xml::parse(text));
     let mut root_seen = false;
     let mut capabilities: Vec<(String, String)> = Vec::new();
     let mut units: Vec<String> = Vec::new();
     let mut categories: Vec<(String, String)> = Vec::new();
     let mut variables: Vec<Variable> = Vec::new();
     let mut default_experiment: Option<(f64, f64, f64)> = None;
-    let mut open_variable: Option<(Vec<(String, String)>, usize)> = None;
-    loop {
-        let position = reader.buffer_position() as usize;
-        let event = reader
-            .read_event()
-            .unwrap_or_else(|err| fail(line_of(text, position), &format!("malformed XML: {err}")));
-        let line = line_of(text, position);
-        let element = match &event {
-            Event::Start(e) | Event::Empty(e) => Some(e.clone()),
-            Event::Eof => break,
-            _ => None,
-        };
-        let Some(element) = element else { continue };
-        let name = String::from_utf8_lossy(element.name().as_ref()).into_owned();
-        let attrs = attributes(&element, line);
-        match name.as_str() {
+    let mut open_variable: Option<&xml::Element> = None;
+    for element in root.descendants() {
+        let line = element.line;
+        let get = |key: &str| check(element.required(key));
+        let number = |key: &str| check(element.required_number(key));
+        match element.name.as_str() {
             "fmiModelDescription" => {
                 root_seen = true;
-                let version = get(&attrs, "fmiVersion", &name, line);
+                let version = get("fmiVersion");
                 if version != "2.0" {
                     fail(line, &format!("fmiVersion is '{version}', expected '2.0'"));
                 }
             }
-            "CoSimulation" => capabilities = attrs,
+            "CoSimulation" => capabilities = element.attributes.clone(),
             "Unit" => {
-                let unit = get(&attrs, "name", &name, line).to_string();
+                let unit = get("name").to_string();
                 if units.contains(&unit) {
                     fail(line, &format!("unit '{unit}' is declared twice"));
                 }
                 units.push(unit);
             }
             "Category" => {
-                let category = get(&attrs, "name", &name, line).to_string();
-                let description = get(&attrs, "description", &name, line).to_string();
+                let category = get("name").to_string();
+                let description = get("description").to_string();
                 if categories.iter().any(|(c, _)| *c == category) {
                     fail(
                         line,
@@ -147,9 +111,9 @@ fn generate(text: &str) -> String {
                 categories.push((category, description));
             }
             "DefaultExperiment" => {
-                let start = number(get(&attrs, "startTime", &name, line), "startTime", line);
-                let stop = number(get(&attrs, "stopTime", &name, line), "stopTime", line);
-                let step = number(get(&attrs, "stepSize", &name, line), "stepSize", line);
+                let start = number("startTime");
+                let stop = number("stopTime");
+                let step = number("stepSize");
                 if stop <= start || step <= 0.0 {
                     fail(
                         line,
@@ -158,17 +122,17 @@ fn generate(text: &str) -> String {
                 }
                 default_experiment = Some((start, stop, step));
             }
-            "ScalarVariable" => open_variable = Some((attrs, line)),
+            "ScalarVariable" => open_variable = Some(element),
             "Real" => {
-                let Some((variable_attrs, variable_line)) = open_variable.take() else {
+                let Some(variable) = open_variable.take() else {
                     fail(line, "<Real> outside a <ScalarVariable>");
                 };
-                let field = |key: &str| get(&variable_attrs, key, "ScalarVariable", variable_line);
+                let field = |key: &str| check(variable.required(key));
                 let value_reference = field("valueReference").parse::<u32>().unwrap_or_else(|_| {
-                    fail(variable_line, "valueReference is not an unsigned integer")
+                    fail(variable.line, "valueReference is not an unsigned integer")
                 });
-                let start = number(get(&attrs, "start", &name, line), "start", line);
-                let min = number(get(&attrs, "min", &name, line), "min", line);
+                let start = number("start");
+                let min = number("min");
                 if start < min {
                     fail(line, &format!("start {start} is below min {min}"));
                 }
@@ -180,7 +144,7 @@ fn generate(text: &str) -> String {
                     description: field("description").to_string(),
                     start,
                     min,
-                    unit: get(&attrs, "unit", &name, line).to_string(),
+                    unit: get("unit").to_string(),
                     line,
                 });
             }

@@ -30,6 +30,7 @@ pub mod model;
 pub mod model_description {
     pub use crate::fmu::description::*;
 }
+pub mod network;
 pub mod numerics;
 pub mod panels;
 pub mod plot;
@@ -44,3 +45,4 @@ pub mod variables {
     pub use crate::fmu::units::DofUnit;
     pub use crate::fmu::variables::*;
 }
+pub mod xml;

@@ -4,6 +4,7 @@
 //! line and marker series, and a legend; [`Figure::to_svg`] renders it as a standalone SVG
 //! document.
 
+use crate::xml::escape;
 use std::fmt::Write as _;
 
 /// Scale of an axis.
@@ -275,12 +276,6 @@ impl Figure {
         svg.push_str("</svg>\n");
         svg
     }
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 /// Tick positions in transformed coordinates.

@@ -244,7 +244,7 @@ pub fn json(built: &Built) -> String {
 
 fn number(x: f64) -> String {
     if x.is_finite() {
-        format!("{x:e}")
+        hydrofmu::xml::format_number(x, hydrofmu::xml::Notation::Scientific)
     } else {
         "null".into()
     }

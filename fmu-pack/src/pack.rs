@@ -21,8 +21,9 @@ use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::fmu::description::FIXED_XML;
 use hydrofmu::fmu::{DescriptionInfo, Layout, Resources};
 use hydrofmu::model::{Model, ModelOptions};
-use hydrofmu::realize::Network;
+use hydrofmu::network::Network;
 use hydrofmu::scene::{Band, Scene, SceneReport};
+use hydrofmu::xml::escape;
 use std::fmt;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -426,13 +427,6 @@ fn write_zip(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), PackErr
     })
 }
 
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
 fn matrix_table(title: &str, names: &[String], m: &nalgebra::DMatrix<f64>) -> String {
     let mut t = format!("<h3>{}</h3>\n<table>\n<tr><th></th>", escape(title));
     for n in names {
@@ -669,7 +663,6 @@ fn read_entry<R: Read + std::io::Seek>(
 
 /// `fmu-pack inspect`.
 pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
-    use quick_xml::events::Event;
     let file =
         std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
     let mut archive = zip::ZipArchive::new(file)
@@ -705,34 +698,22 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
         entries,
         scene,
     };
-    let mut reader = quick_xml::Reader::from_str(&description);
+    let root =
+        hydrofmu::xml::parse(&description).map_err(|e| format!("modelDescription.xml: {e}"))?;
     let mut current_name = String::new();
-    loop {
-        let event = reader
-            .read_event()
-            .map_err(|e| format!("modelDescription.xml: {e}"))?;
-        let e = match event {
-            Event::Eof => break,
-            Event::Start(e) | Event::Empty(e) => e,
-            _ => continue,
-        };
-        let attr = |key: &str| -> Option<String> {
-            e.attributes()
-                .flatten()
-                .find(|a| a.key.as_ref() == key.as_bytes())
-                .and_then(|a| a.unescape_value().ok().map(|v| v.into_owned()))
-        };
-        match e.name().as_ref() {
-            b"fmiModelDescription" => {
+    for e in root.descendants() {
+        let attr = |key: &str| e.attribute(key).map(str::to_string);
+        match e.name.as_str() {
+            "fmiModelDescription" => {
                 out.model_name = attr("modelName").unwrap_or_default();
                 out.guid = attr("guid").unwrap_or_default();
             }
-            b"CoSimulation" => out.model_identifier = attr("modelIdentifier").unwrap_or_default(),
-            b"ScalarVariable" => {
+            "CoSimulation" => out.model_identifier = attr("modelIdentifier").unwrap_or_default(),
+            "ScalarVariable" => {
                 out.variables += 1;
                 current_name = attr("name").unwrap_or_default();
             }
-            b"Real" => {
+            "Real" => {
                 if let Some(dof) = current_name.strip_prefix("velocity.") {
                     out.dofs
                         .push((dof.to_string(), attr("unit").unwrap_or_default()));

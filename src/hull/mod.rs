@@ -1,0 +1,394 @@
+//! Hull geometry: the wetted contour of a 2D section and its generalized degrees of freedom.
+//!
+//! # Conventions
+//! x to the right, **y up**, mean free surface y = 0, fluid in y < 0, SI units (metres).
+//! The contour is parametrized by `s` in [0, 1], proportional to arc length. It runs
+//!
+//! * **open** (partially submerged): from the LEFT waterline (s = 0) to the RIGHT waterline
+//!   (s = 1), both ends on y = 0, everything in between strictly below y = 0;
+//! * **closed** (fully submerged): once around the body, s = 1 back at the start point;
+//!
+//! always with the body on the LEFT of the direction of travel and the fluid on the right
+//! (counter-clockwise around the body). With unit tangent t = dP/ds / |dP/ds| the unit normal
+//! n = (-t_y, t_x) points out of the fluid, into the body.
+//!
+//! Each degree of freedom (DOF) j is a displacement field d_j(s) along the contour; the body
+//! condition of the radiation problem uses its normal component n · d_j.
+//!
+//! * rigid `sway`: d = (1, 0); `heave`: d = (0, 1); `roll` (counter-clockwise about a reference
+//!   point (x_r, y_r), for built-ins the origin on the free surface): d = (-(y - y_r), x - x_r);
+//! * elastic, from a hull file: displacement vectors given at the contour points, linearly
+//!   interpolated in s between them;
+//! * elastic, built-in semicircle: the six Craig-Bampton modes `cb1..cb6` of a thin
+//!   semicircular beam (`craig_bampton.rs`).
+//!
+//! # Where things are
+//! * `builtin.rs`: [`Hull::semicircle`] and [`Hull::circle`], exact arcs with analytic fields;
+//! * `craig_bampton.rs`: the thin-beam modes of the semicircle (seed eqs. 4-6);
+//! * `file.rs`: hull files (`docs/HULL_FORMAT.md`) read with [`crate::xml`] and written back;
+//! * `validate.rs`: the geometric checks of a file's contour (waterline, self-contact,
+//!   orientation) and its arc-length knots.
+
+mod builtin;
+mod craig_bampton;
+mod file;
+mod validate;
+
+pub use craig_bampton::{
+    craig_bampton_coefficients, craig_bampton_displacement, craig_bampton_fields,
+};
+
+use std::f64::consts::PI;
+use std::fmt;
+
+/// A point or vector in the section plane, `[x, y]` in metres.
+pub type Point = [f64; 2];
+
+/// Why a hull could not be built: the source (file name, or built-in / hull name), the line
+/// when it came from a file, and the problem.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct HullError {
+    source: String,
+    line: Option<usize>,
+    message: String,
+}
+
+impl HullError {
+    fn new(source: &str, line: Option<usize>, message: impl Into<String>) -> Self {
+        HullError {
+            source: source.to_string(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// The file name (or `built-in semicircle`, `built-in circle`, a hull's name).
+    pub fn source_name(&self) -> &str {
+        &self.source
+    }
+
+    /// 1-based line in the file, when the error refers to one.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+
+    /// The problem, without the location.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl fmt::Display for HullError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{}: {}", self.source, line, self.message),
+            None => write!(f, "{}: {}", self.source, self.message),
+        }
+    }
+}
+
+impl std::error::Error for HullError {}
+
+/// The three rigid motions of a 2D section.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RigidKind {
+    /// Translation in +x.
+    Sway,
+    /// Translation in +y.
+    Heave,
+    /// Counter-clockwise rotation about the reference point.
+    Roll,
+}
+
+impl RigidKind {
+    /// The word used in hull files: `sway`, `heave`, `roll`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RigidKind::Sway => "sway",
+            RigidKind::Heave => "heave",
+            RigidKind::Roll => "roll",
+        }
+    }
+
+    fn parse(word: &str) -> Option<RigidKind> {
+        match word {
+            "sway" => Some(RigidKind::Sway),
+            "heave" => Some(RigidKind::Heave),
+            "roll" => Some(RigidKind::Roll),
+            _ => None,
+        }
+    }
+}
+
+/// What kind of displacement field a DOF has.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DofKind {
+    /// Rigid motion.
+    Rigid {
+        /// Sway, heave or roll.
+        kind: RigidKind,
+        /// Centre of rotation for roll (kept, without effect, for sway and heave).
+        reference: Point,
+    },
+    /// Craig-Bampton mode of the built-in semicircular beam.
+    CraigBampton {
+        /// 1..=6: unit u(0), w(0), psi(0), u(pi), w(pi), psi(pi).
+        mode: usize,
+    },
+    /// Elastic mode given as displacement vectors at the contour points.
+    Elastic,
+}
+
+#[derive(Clone, Debug)]
+enum Field {
+    Rigid { kind: RigidKind, reference: Point },
+    CraigBampton { mode: usize, coefficients: [f64; 6] },
+    Vectors(Vec<Point>),
+}
+
+#[derive(Clone, Debug)]
+struct Dof {
+    name: String,
+    field: Field,
+}
+
+#[derive(Clone, Debug)]
+enum Contour {
+    /// depth == 0: semicircle (open, theta = pi s); depth > radius: full circle (theta = 2 pi s).
+    Arc { radius: f64, depth: f64 },
+    /// `knots[i]`: s at vertex i; closed contours have one more knot (1.0, back at vertex 0).
+    Polyline {
+        points: Vec<Point>,
+        closed: bool,
+        knots: Vec<f64>,
+        length: f64,
+    },
+}
+
+/// The wetted contour of a 2D hull section and its generalized DOFs (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Hull {
+    name: String,
+    half_beam: f64,
+    contour: Contour,
+    dofs: Vec<Dof>,
+    notes: Vec<String>,
+}
+
+fn rigid_displacement(kind: RigidKind, reference: Point, p: Point) -> Point {
+    match kind {
+        RigidKind::Sway => [1.0, 0.0],
+        RigidKind::Heave => [0.0, 1.0],
+        RigidKind::Roll => [-(p[1] - reference[1]), p[0] - reference[0]],
+    }
+}
+
+impl Hull {
+    /// "semicircle", "circle", or the `name` attribute of the file.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Reference half-beam R used to make coefficients nondimensional (kR, A / (rho pi R^2)).
+    pub fn reference_half_beam(&self) -> f64 {
+        self.half_beam
+    }
+
+    /// True for a fully submerged body (contour closed around it).
+    pub fn is_closed(&self) -> bool {
+        match &self.contour {
+            Contour::Arc { depth, .. } => *depth > 0.0,
+            Contour::Polyline { closed, .. } => *closed,
+        }
+    }
+
+    /// Names of the DOFs, in order.
+    pub fn dof_names(&self) -> Vec<&str> {
+        self.dofs.iter().map(|d| d.name.as_str()).collect()
+    }
+
+    /// Number of DOFs.
+    pub fn dof_count(&self) -> usize {
+        self.dofs.len()
+    }
+
+    /// The kind of DOF `dof`, or `None` if out of range.
+    pub fn dof_kind(&self, dof: usize) -> Option<DofKind> {
+        self.dofs.get(dof).map(|d| match &d.field {
+            Field::Rigid { kind, reference } => DofKind::Rigid {
+                kind: *kind,
+                reference: *reference,
+            },
+            Field::CraigBampton { mode, .. } => DofKind::CraigBampton { mode: *mode },
+            Field::Vectors(_) => DofKind::Elastic,
+        })
+    }
+
+    /// Notes on corrections made while reading (e.g. a reversed contour); empty for built-ins.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// A hull with only the DOFs named, in the order given. An unknown or repeated name, or an
+    /// empty list, is an error that lists the available names.
+    pub fn select_dofs(&self, names: &[&str]) -> Result<Hull, HullError> {
+        let available = self.dof_names().join(" ");
+        if names.is_empty() {
+            return Err(HullError::new(
+                &self.name,
+                None,
+                format!("no DOFs selected; available: {available}"),
+            ));
+        }
+        let mut dofs = Vec::with_capacity(names.len());
+        for (k, name) in names.iter().enumerate() {
+            if names[..k].contains(name) {
+                return Err(HullError::new(
+                    &self.name,
+                    None,
+                    format!("DOF '{name}' selected twice; available: {available}"),
+                ));
+            }
+            match self.dofs.iter().find(|d| d.name == *name) {
+                Some(d) => dofs.push(d.clone()),
+                None => {
+                    return Err(HullError::new(
+                        &self.name,
+                        None,
+                        format!("unknown DOF '{name}'; available: {available}"),
+                    ))
+                }
+            }
+        }
+        Ok(Hull {
+            dofs,
+            ..self.clone()
+        })
+    }
+
+    /// Total arc length of the contour (closed: once around), metres.
+    pub fn contour_length(&self) -> f64 {
+        match &self.contour {
+            Contour::Arc { radius, depth } if *depth > 0.0 => 2.0 * PI * radius,
+            Contour::Arc { radius, .. } => PI * radius,
+            Contour::Polyline { length, .. } => *length,
+        }
+    }
+
+    /// Contour point at parameter `s` in [0, 1] (clamped), s proportional to arc length.
+    pub fn point(&self, s: f64) -> Point {
+        let s = s.clamp(0.0, 1.0);
+        match &self.contour {
+            Contour::Arc { radius, depth } => {
+                let (sn, cs) = arc_sin_cos(*depth, s);
+                [-radius * cs, -depth - radius * sn]
+            }
+            Contour::Polyline { points, knots, .. } => {
+                let (i, j, t) = locate(knots, points.len(), s);
+                lerp(points[i], points[j], t)
+            }
+        }
+    }
+
+    /// Unit tangent (direction of increasing s) at `s`. On a polyline vertex the tangent of the
+    /// segment towards increasing s is returned (towards decreasing s at s = 1).
+    pub fn tangent(&self, s: f64) -> Point {
+        let s = s.clamp(0.0, 1.0);
+        match &self.contour {
+            Contour::Arc { depth, .. } => {
+                let (sn, cs) = arc_sin_cos(*depth, s);
+                [sn, -cs]
+            }
+            Contour::Polyline { points, knots, .. } => {
+                let (i, j, _) = locate(knots, points.len(), s);
+                let d = [points[j][0] - points[i][0], points[j][1] - points[i][1]];
+                let l = d[0].hypot(d[1]);
+                [d[0] / l, d[1] / l]
+            }
+        }
+    }
+
+    /// Unit normal n = (-t_y, t_x) at `s`: out of the fluid, into the body.
+    pub fn normal(&self, s: f64) -> Point {
+        let t = self.tangent(s);
+        [-t[1], t[0]]
+    }
+
+    /// Displacement field of DOF `dof` (index into [`Hull::dof_names`]) at `s`;
+    /// `[NaN, NaN]` if `dof` is out of range.
+    pub fn displacement(&self, dof: usize, s: f64) -> [f64; 2] {
+        let Some(d) = self.dofs.get(dof) else {
+            return [f64::NAN; 2];
+        };
+        let s = s.clamp(0.0, 1.0);
+        match (&d.field, &self.contour) {
+            (Field::Rigid { kind, reference }, _) => {
+                rigid_displacement(*kind, *reference, self.point(s))
+            }
+            (Field::CraigBampton { coefficients, .. }, Contour::Arc { radius, .. }) => {
+                craig_bampton_displacement(coefficients, *radius, PI * s)
+            }
+            (Field::Vectors(v), Contour::Polyline { points, knots, .. }) => {
+                let (i, j, t) = locate(knots, points.len(), s);
+                lerp(v[i], v[j], t)
+            }
+            // Not constructible: checked when the hull is built.
+            _ => [f64::NAN; 2],
+        }
+    }
+
+    /// Normal component n · d of DOF `dof` at `s` (the body boundary condition).
+    pub fn normal_displacement(&self, dof: usize, s: f64) -> f64 {
+        let n = self.normal(s);
+        let d = self.displacement(dof, s);
+        n[0] * d[0] + n[1] * d[1]
+    }
+
+    /// Parameters of contour vertices where panel nodes must fall, ascending, from 0 to 1:
+    /// `[0.0, 1.0]` for the smooth built-ins; every point of a file's contour (the geometry
+    /// and the mode vectors have kinks there), plus 1.0 for a closed contour.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        match &self.contour {
+            Contour::Arc { .. } => vec![0.0, 1.0],
+            Contour::Polyline { knots, .. } => knots.clone(),
+        }
+    }
+}
+
+/// (sin theta, cos theta) of the arc angle at s (theta = pi s, or 2 pi s for a closed circle),
+/// evaluated from the nearer end so that the end points are exact: the semicircle ends on
+/// y = 0 and the circle closes on its start point.
+fn arc_sin_cos(depth: f64, s: f64) -> (f64, f64) {
+    if depth > 0.0 {
+        let s = if s >= 1.0 { 0.0 } else { s };
+        if s <= 0.5 {
+            (2.0 * PI * s).sin_cos()
+        } else {
+            let (sn, cs) = (2.0 * PI * (1.0 - s)).sin_cos();
+            (-sn, cs)
+        }
+    } else if s <= 0.5 {
+        (PI * s).sin_cos()
+    } else {
+        let (sn, cs) = (PI * (1.0 - s)).sin_cos();
+        (sn, -cs)
+    }
+}
+
+/// Segment (vertex i, vertex j) containing s and the local parameter t in [0, 1].
+fn locate(knots: &[f64], vertices: usize, s: f64) -> (usize, usize, f64) {
+    let segments = knots.len() - 1;
+    let i = knots
+        .partition_point(|&k| k <= s)
+        .saturating_sub(1)
+        .min(segments - 1);
+    let t = (s - knots[i]) / (knots[i + 1] - knots[i]);
+    (i, (i + 1) % vertices, t)
+}
+
+fn lerp(a: Point, b: Point, t: f64) -> Point {
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,276 @@
+//! The network XML file: writing and reading (on [`crate::xml`]).
+//!
+//! ```xml
+//! <?xml version="1.0" encoding="UTF-8"?>
+//! <network format_version="1" form="series_chain" rho="1025" g="9.81">
+//!   <dof name="sway"/>
+//!   <added_mass_inf>
+//!     <row>230.5</row>
+//!   </added_mass_inf>
+//!   <branch>
+//!     <direction>1</direction>
+//!     <stage mass="512.3" stiffness="2100.7" damping="880.1"/>
+//!     <stage mass="101.9" stiffness="4000.2" damping="120.4"/>
+//!   </branch>
+//! </network>
+//! ```
+//!
+//! * `network`: attributes `format_version` (must be `1`), `form` (`series_chain`,
+//!   `parallel_bank` or `coupled`), `rho` and `g` (the water density and gravity the values were
+//!   made for; [`Network::scaled`] moves them). Children in this order: `dof` elements, one
+//!   `added_mass_inf`, then zero or more `branch` elements.
+//! * `dof name="..."`: one per hull DOF, in the order of the matrix rows.
+//! * `added_mass_inf`: n `row` elements of n whitespace-separated numbers (symmetric PSD).
+//! * `branch`: one `direction` (n numbers), then one or more `stage` elements with attributes
+//!   `mass`, `stiffness`, `damping` (all finite and > 0), listed from the hull outwards.
+//!
+//! Units: SI per unit hull length; a DOF's generalized units carry into the matrices. Comments
+//! are allowed anywhere; anything else unknown (elements, attributes, text) is an error that
+//! names the file and line. The full description is `docs/NETWORK_FORMAT.md`.
+
+use std::path::Path;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::{Branch, Network, NetworkError, NetworkForm, Stage, NETWORK_FORMAT_VERSION};
+use crate::xml::{self, escape, Element, Notation, XmlError};
+
+impl Network {
+    /// The network as an XML file (format: `docs/NETWORK_FORMAT.md`). Numbers round-trip
+    /// exactly.
+    pub fn to_xml_string(&self) -> String {
+        let mut out = String::new();
+        out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+        out.push_str(
+            "<!-- Equivalent mass-spring-damper network (hydrofmu), SI units per unit hull \
+             length; format: docs/NETWORK_FORMAT.md -->\n",
+        );
+        out.push_str(&format!(
+            "<network format_version=\"{NETWORK_FORMAT_VERSION}\" form=\"{}\" rho=\"{}\" g=\"{}\">\n",
+            self.form.name(),
+            num(self.rho),
+            num(self.g)
+        ));
+        for name in &self.dof_names {
+            out.push_str(&format!("  <dof name=\"{}\"/>\n", escape(name)));
+        }
+        out.push_str("  <added_mass_inf>\n");
+        for i in 0..self.added_mass_inf.nrows() {
+            let row: Vec<String> = self.added_mass_inf.row(i).iter().map(|&x| num(x)).collect();
+            out.push_str(&format!("    <row>{}</row>\n", row.join(" ")));
+        }
+        out.push_str("  </added_mass_inf>\n");
+        for branch in &self.branches {
+            out.push_str("  <branch>\n");
+            let direction: Vec<String> = branch.direction.iter().map(|&x| num(x)).collect();
+            out.push_str(&format!(
+                "    <direction>{}</direction>\n",
+                direction.join(" ")
+            ));
+            for stage in &branch.stages {
+                out.push_str(&format!(
+                    "    <stage mass=\"{}\" stiffness=\"{}\" damping=\"{}\"/>\n",
+                    num(stage.mass),
+                    num(stage.stiffness),
+                    num(stage.damping)
+                ));
+            }
+            out.push_str("  </branch>\n");
+        }
+        out.push_str("</network>\n");
+        out
+    }
+
+    /// Writes [`Network::to_xml_string`] to `path`.
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), NetworkError> {
+        let path = path.as_ref();
+        std::fs::write(path, self.to_xml_string()).map_err(|e| NetworkError::File {
+            source: path.display().to_string(),
+            line: None,
+            message: format!("cannot write: {e}"),
+        })
+    }
+
+    /// Reads a network file.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Network, NetworkError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| NetworkError::File {
+            source: path.display().to_string(),
+            line: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        Network::from_xml_str(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates network XML; `source_name` names the text in error messages.
+    pub fn from_xml_str(text: &str, source_name: &str) -> Result<Network, NetworkError> {
+        let fail = |line: Option<usize>, message: String| NetworkError::File {
+            source: source_name.to_string(),
+            line,
+            message,
+        };
+        let located = |e: XmlError| fail(Some(e.line), e.message);
+        let root = xml::parse(text).map_err(located)?;
+        let network = network_from_tree(&root).map_err(located)?;
+        network.validate().map_err(|e| fail(None, e.to_string()))?;
+        Ok(network)
+    }
+}
+
+/// Network files write numbers in [`Notation::Plain`].
+fn num(x: f64) -> String {
+    xml::format_number(x, Notation::Plain)
+}
+
+/// A `<row>` or `<direction>`: no attributes or children, `expected` numbers (one per DOF).
+fn numbers(element: &Element, expected: usize) -> Result<Vec<f64>, XmlError> {
+    element.no_children()?;
+    element.only_attributes(&[])?;
+    let values = element.text_numbers()?;
+    if values.len() != expected {
+        return Err(element.error(format!(
+            "<{}> has {} numbers, expected {expected} (one per DOF)",
+            element.name,
+            values.len()
+        )));
+    }
+    Ok(values)
+}
+
+/// An element holding nothing but attributes.
+fn leaf(element: &Element) -> Result<(), XmlError> {
+    element.no_children()?;
+    element.no_text()
+}
+
+fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
+    if root.name != "network" {
+        return Err(root.error(format!(
+            "root element is <{}>, expected <network>",
+            root.name
+        )));
+    }
+    root.only_attributes(&["format_version", "form", "rho", "g"])?;
+    root.no_text()?;
+    let version = root.required("format_version")?;
+    if version.trim() != NETWORK_FORMAT_VERSION.to_string() {
+        return Err(root.error(format!(
+            "format_version {version:?} is not supported (this reader knows {NETWORK_FORMAT_VERSION})"
+        )));
+    }
+    let form_name = root.required("form")?;
+    let form = NetworkForm::from_name(form_name.trim()).ok_or_else(|| {
+        root.error(format!(
+            "unknown form {form_name:?} (series_chain, parallel_bank or coupled)"
+        ))
+    })?;
+    let rho = root.required_number("rho")?;
+    let g = root.required_number("g")?;
+
+    let mut dof_names = Vec::new();
+    let mut added_mass_inf: Option<DMatrix<f64>> = None;
+    let mut branches = Vec::new();
+    // Order: dof*, added_mass_inf, branch*.
+    let mut phase = 0;
+    for child in &root.children {
+        match child.name.as_str() {
+            "dof" => {
+                if phase > 0 {
+                    return Err(child.error("<dof> must come before <added_mass_inf>"));
+                }
+                child.only_attributes(&["name"])?;
+                leaf(child)?;
+                dof_names.push(child.required("name")?.to_string());
+            }
+            "added_mass_inf" => {
+                if phase > 0 {
+                    return Err(child.error("more than one <added_mass_inf>"));
+                }
+                if dof_names.is_empty() {
+                    return Err(child.error("<added_mass_inf> before any <dof>"));
+                }
+                phase = 1;
+                child.only_attributes(&[])?;
+                child.no_text()?;
+                let n = dof_names.len();
+                let mut matrix = DMatrix::zeros(n, n);
+                let mut rows = 0;
+                for row in &child.children {
+                    if row.name != "row" {
+                        return Err(row.error(format!(
+                            "unexpected element <{}> in <added_mass_inf>",
+                            row.name
+                        )));
+                    }
+                    if rows == n {
+                        return Err(row.error(format!("<added_mass_inf> has more than {n} rows")));
+                    }
+                    let values = numbers(row, n)?;
+                    for (j, v) in values.into_iter().enumerate() {
+                        matrix[(rows, j)] = v;
+                    }
+                    rows += 1;
+                }
+                if rows != n {
+                    return Err(
+                        child.error(format!("<added_mass_inf> has {rows} rows, expected {n}"))
+                    );
+                }
+                added_mass_inf = Some(matrix);
+            }
+            "branch" => {
+                if phase == 0 {
+                    return Err(child.error("<branch> before <added_mass_inf>"));
+                }
+                child.only_attributes(&[])?;
+                child.no_text()?;
+                let n = dof_names.len();
+                let mut direction = None;
+                let mut stages = Vec::new();
+                for part in &child.children {
+                    match part.name.as_str() {
+                        "direction" => {
+                            if direction.is_some() || !stages.is_empty() {
+                                return Err(
+                                    part.error("one <direction> per branch, before its stages")
+                                );
+                            }
+                            direction = Some(DVector::from_vec(numbers(part, n)?));
+                        }
+                        "stage" => {
+                            part.only_attributes(&["mass", "stiffness", "damping"])?;
+                            leaf(part)?;
+                            stages.push(Stage {
+                                mass: part.required_number("mass")?,
+                                stiffness: part.required_number("stiffness")?,
+                                damping: part.required_number("damping")?,
+                            });
+                        }
+                        other => {
+                            return Err(
+                                part.error(format!("unexpected element <{other}> in <branch>"))
+                            )
+                        }
+                    }
+                }
+                let direction =
+                    direction.ok_or_else(|| child.error("<branch> has no <direction>"))?;
+                if stages.is_empty() {
+                    return Err(child.error("<branch> has no <stage>"));
+                }
+                branches.push(Branch { direction, stages });
+            }
+            other => return Err(child.error(format!("unexpected element <{other}> in <network>"))),
+        }
+    }
+    let added_mass_inf =
+        added_mass_inf.ok_or_else(|| root.error("<network> has no <added_mass_inf>"))?;
+    Ok(Network {
+        dof_names,
+        added_mass_inf,
+        branches,
+        rho,
+        g,
+        form,
+    })
+}
