@@ -1,8 +1,16 @@
 //! The C ABI exercised from Rust, with a Rust logger, including every bad call.
+//!
+//! Every `unsafe` block below calls the exported functions with a component made by
+//! [`instantiate`] (or NULL or foreign memory where the test says so) and pointers to live
+//! locals with the entry counts passed.
 
 use super::*;
+use crate::fmi2::{resource_path, Phase};
 use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
-use crate::model_description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
+use crate::model::Resources;
+use crate::model_description::{FIRST_PER_HULL_REFERENCE, LOG_CATEGORIES, VR_G, VR_RHO};
+use std::ffi::{c_int, c_void};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
@@ -16,15 +24,17 @@ unsafe extern "C" fn rust_logger(
     category: fmi2String,
     message: fmi2String,
 ) {
-    let log = &*(env as *const Log);
-    let text = |p: fmi2String| CStr::from_ptr(p).to_string_lossy().into_owned();
+    // SAFETY: `env` is the `Log` given in `callbacks`, which outlives the instance.
+    let log = unsafe { &*(env as *const Log) };
+    // SAFETY: the FMU passes NUL-terminated strings.
+    let text = |p: fmi2String| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
     log.lock()
         .unwrap()
         .push((status, text(category), text(message)));
 }
 
 fn callbacks(log: &Log) -> fmi2CallbackFunctions {
-    // SAFETY (test only): on x86-64 System V a non-variadic callee ignores the vector
+    // SAFETY: test only: on x86-64 System V a non-variadic callee ignores the vector
     // register count a variadic call passes; we never pass variadic arguments.
     let logger = unsafe {
         std::mem::transmute::<
@@ -96,6 +106,7 @@ fn instantiate(
     functions: &fmi2CallbackFunctions,
     logging: bool,
 ) -> fmi2Component {
+    // SAFETY: NUL-terminated strings and callbacks that outlive the call.
     unsafe {
         fmi2Instantiate(
             c"hull%1".as_ptr(),
@@ -113,6 +124,7 @@ fn instantiate(
 fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
     let c = instantiate(fmu, &fmu.uri(), functions, false);
     assert!(!c.is_null());
+    // SAFETY: see the module docs.
     unsafe {
         set(c, &[VR_RHO, VR_G], &[1.0, 1.0]);
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2OK);
@@ -122,21 +134,30 @@ fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
     c
 }
 
+/// # Safety
+/// `c` is a live component.
 unsafe fn set(c: fmi2Component, vr: &[u32], v: &[f64]) {
-    assert_eq!(fmi2SetReal(c, vr.as_ptr(), vr.len(), v.as_ptr()), fmi2OK);
+    assert_eq!(v.len(), vr.len());
+    // SAFETY: a live component (caller) and two arrays of vr.len() entries.
+    let status = unsafe { fmi2SetReal(c, vr.as_ptr(), vr.len(), v.as_ptr()) };
+    assert_eq!(status, fmi2OK);
 }
 
+/// # Safety
+/// `c` is a live component.
 unsafe fn get(c: fmi2Component, vr: &[u32]) -> Vec<f64> {
     let mut out = vec![0.0; vr.len()];
-    assert_eq!(
-        fmi2GetReal(c, vr.as_ptr(), vr.len(), out.as_mut_ptr()),
-        fmi2OK
-    );
+    // SAFETY: a live component (caller) and two arrays of vr.len() entries.
+    let status = unsafe { fmi2GetReal(c, vr.as_ptr(), vr.len(), out.as_mut_ptr()) };
+    assert_eq!(status, fmi2OK);
     out
 }
 
+/// # Safety
+/// `c` is a live component, not in use.
 unsafe fn phase(c: fmi2Component) -> Phase {
-    (*(c as *mut Instance)).phase
+    // SAFETY: the caller's contract; a shared reference for this read only.
+    unsafe { &(*(c as *const Component)).instance }.phase()
 }
 
 const VELOCITY: u32 = FIRST_PER_HULL_REFERENCE;
@@ -148,8 +169,10 @@ const DAMPING: u32 = FIRST_PER_HULL_REFERENCE + 5;
 
 #[test]
 fn version_and_platform() {
+    // SAFETY: static NUL-terminated strings.
     let v = unsafe { CStr::from_ptr(fmi2GetVersion()) };
     assert_eq!(v.to_str().unwrap(), "2.0");
+    // SAFETY: as above.
     let p = unsafe { CStr::from_ptr(fmi2GetTypesPlatform()) };
     assert_eq!(p.to_str().unwrap(), "default");
 }
@@ -159,6 +182,7 @@ fn a_normal_run_matches_the_network() {
     let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
     let log = Log::default();
     let c = ready(&fmu, &callbacks(&log));
+    // SAFETY: see the module docs.
     unsafe {
         // At rest: force = -c1 v, power = c1 v^2, calculated parameters at rho = g = 1.
         set(c, &[VELOCITY], &[2.0]);
@@ -219,9 +243,14 @@ fn resource_locations_in_every_accepted_spelling() {
         format!("file:{encoded}"),
         format!("file://localhost{encoded}"),
         format!("file://{}", encoded.replace("/tmp", "/%74mp")),
+        // URI schemes and host names are case-insensitive.
+        format!("FILE://{encoded}"),
+        format!("File:{encoded}"),
+        format!("FILE://LOCALHOST{encoded}"),
     ] {
         let c = instantiate(&fmu, &CString::new(uri.clone()).unwrap(), &f, false);
         assert!(!c.is_null(), "{uri}: {:?}", log.lock().unwrap());
+        // SAFETY: see the module docs.
         unsafe { fmi2FreeInstance(c) };
     }
     assert_eq!(
@@ -246,6 +275,7 @@ fn instantiation_refuses_bad_arguments_and_logs_why() {
     let log = Log::default();
     let f = callbacks(&log);
     let uri = fmu.uri();
+    // SAFETY: see the module docs.
     unsafe {
         let wrong_guid = c"{00000000-0000-0000-0000-000000000000}";
         let cases: Vec<(fmi2String, fmi2Type, fmi2String, fmi2String)> = vec![
@@ -340,6 +370,7 @@ fn a_null_logger_is_tolerated() {
     };
     let c = instantiate(&fmu, &fmu.uri(), &f, true);
     assert!(!c.is_null());
+    // SAFETY: see the module docs.
     unsafe {
         assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2Error);
         assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
@@ -352,6 +383,7 @@ fn every_function_refuses_a_null_or_foreign_component() {
     let mut garbage = [0u64; 64];
     let foreign = garbage.as_mut_ptr() as fmi2Component;
     for c in [std::ptr::null_mut(), foreign] {
+        // SAFETY: see the module docs.
         unsafe {
             let mut x = 0.0;
             let mut i = 0;
@@ -405,6 +437,7 @@ fn calls_in_the_wrong_phase_are_refused_without_changing_it() {
     let log = Log::default();
     let f = callbacks(&log);
     let c = instantiate(&fmu, &fmu.uri(), &f, false);
+    // SAFETY: see the module docs.
     unsafe {
         let mut x = 0.0;
         assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2Error);
@@ -438,6 +471,7 @@ fn every_bad_call_gets_an_error_and_reset_recovers() {
     let log = Log::default();
     let f = callbacks(&log);
     let c = ready(&fmu, &f);
+    // SAFETY: see the module docs.
     unsafe {
         set(c, &[VELOCITY], &[1.0]);
         assert_eq!(fmi2DoStep(c, 0.0, 0.5, 0), fmi2OK);
@@ -586,8 +620,12 @@ fn every_bad_call_gets_an_error_and_reset_recovers() {
 /// One refused call.
 type BadCall<'a> = Box<dyn Fn() -> fmi2Status + 'a>;
 
+/// # Safety
+/// `c` is a live component.
 unsafe fn get_phase_values(c: fmi2Component) -> (Phase, f64) {
-    (phase(c), (*(c as *mut Instance)).model.state().rho)
+    // SAFETY: the caller's contract.
+    let instance = unsafe { &(*(c as *const Component)).instance };
+    (instance.phase(), instance.model().state().rho)
 }
 
 #[test]
@@ -596,6 +634,7 @@ fn logging_is_silent_per_step_unless_log_calls_is_on() {
     let log = Log::default();
     let f = callbacks(&log);
     let c = ready(&fmu, &f);
+    // SAFETY: see the module docs.
     unsafe {
         for k in 0..50 {
             assert_eq!(fmi2DoStep(c, k as f64 * 0.1, 0.1, 0), fmi2OK);
@@ -607,17 +646,51 @@ fn logging_is_silent_per_step_unless_log_calls_is_on() {
         for k in 50..60 {
             assert_eq!(fmi2DoStep(c, k as f64 * 0.1, 0.1, 0), fmi2OK);
         }
-        let lines = log.lock().unwrap().len() - before;
-        assert!(lines >= 10, "{lines}");
+        // Each step logged once, with its final status.
+        let lines = log.lock().unwrap()[before..].to_vec();
+        assert_eq!(lines.len(), 10, "{lines:?}");
+        assert!(lines
+            .iter()
+            .all(|(status, category, message)| *status == fmi2OK
+                && category == "logCalls"
+                && message.starts_with("fmi2DoStep(t = ")));
+        // A failed step: one call line with fmi2Error (never fmi2OK), then the reason.
+        let before = log.lock().unwrap().len();
+        assert_eq!(fmi2DoStep(c, 6.0, 0.0, 0), fmi2Error);
+        let lines = log.lock().unwrap()[before..].to_vec();
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert_eq!((lines[0].0, lines[0].1.as_str()), (fmi2Error, "logCalls"));
+        assert_eq!(
+            (lines[1].0, lines[1].1.as_str()),
+            (fmi2Error, "logStatusError")
+        );
+        // A call refused in its phase, and one refused for a NULL pointer: the same.
+        for refused in [
+            fmi2DoStep(c, 6.0, 0.1, 0),
+            fmi2GetReal(c, &FORCE, 1, std::ptr::null_mut()),
+        ] {
+            assert_eq!(refused, fmi2Error);
+        }
+        let lines = log.lock().unwrap()[before + 2..].to_vec();
+        let calls: Vec<i32> = lines
+            .iter()
+            .filter(|(_, category, _)| category == "logCalls")
+            .map(|(status, _, _)| *status)
+            .collect();
+        assert_eq!(calls, [fmi2Error, fmi2Error], "{lines:?}");
+        assert_eq!(fmi2Reset(c), fmi2OK);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2OK);
         assert_eq!(fmi2SetDebugLogging(c, 0, 0, std::ptr::null()), fmi2OK);
         let before = log.lock().unwrap().len();
-        assert_eq!(fmi2DoStep(c, 6.0, 0.1, 0), fmi2OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 0), fmi2OK);
         assert_eq!(log.lock().unwrap().len(), before);
         fmi2FreeInstance(c);
     }
     // loggingOn at instantiation turns every category on, events included.
     let log2 = Log::default();
     let c = instantiate(&fmu, &fmu.uri(), &callbacks(&log2), true);
+    // SAFETY: see the module docs.
     unsafe { fmi2FreeInstance(c) };
     assert!(log2
         .lock()
@@ -627,14 +700,20 @@ fn logging_is_silent_per_step_unless_log_calls_is_on() {
 }
 
 /// Runs 200 steps with a varying input and returns every force bit pattern.
+///
+/// # Safety
+/// `c` is a live component.
 unsafe fn run(c: fmi2Component, start: f64) -> Vec<u64> {
     let mut out = Vec::new();
     let h = 0.05;
     for k in 0..200 {
         let t = start + k as f64 * h;
-        set(c, &[VELOCITY], &[(0.7 * t).sin()]);
-        assert_eq!(fmi2DoStep(c, t, h, 0), fmi2OK);
-        out.push(get(c, &[FORCE])[0].to_bits());
+        // SAFETY: the caller's contract.
+        unsafe {
+            set(c, &[VELOCITY], &[(0.7 * t).sin()]);
+            assert_eq!(fmi2DoStep(c, t, h, 0), fmi2OK);
+            out.push(get(c, &[FORCE])[0].to_bits());
+        }
     }
     out
 }
@@ -645,6 +724,7 @@ fn reset_gives_a_bitwise_identical_second_run() {
     let log = Log::default();
     let f = callbacks(&log);
     let c = ready(&fmu, &f);
+    // SAFETY: see the module docs.
     unsafe {
         let first = run(c, 0.0);
         assert_eq!(fmi2Reset(c), fmi2OK);
@@ -663,6 +743,7 @@ fn serialized_state_restores_in_another_instance() {
     let f = callbacks(&log);
     let a = ready(&fmu, &f);
     let b = instantiate(&fmu, &fmu.uri(), &f, false);
+    // SAFETY: see the module docs.
     unsafe {
         run(a, 0.0);
         let mut st: fmi2FMUstate = std::ptr::null_mut();
@@ -711,6 +792,7 @@ fn input_derivatives_give_first_order_hold() {
     let f = callbacks(&log);
     let vr_velocity = [FIRST_PER_HULL_REFERENCE, FIRST_PER_HULL_REFERENCE + 1];
     let force = [FIRST_PER_HULL_REFERENCE + 2, FIRST_PER_HULL_REFERENCE + 3];
+    // SAFETY: see the module docs.
     let result = |steps: usize| unsafe {
         let c = ready(&fmu, &f);
         set(c, &vr_velocity, &[0.2, -0.1]);
@@ -739,6 +821,7 @@ fn input_derivatives_give_first_order_hold() {
         );
     }
     // The acceleration input feeds -A_inf a straight through.
+    // SAFETY: see the module docs.
     unsafe {
         let c = ready(&fmu, &f);
         let acceleration = [
@@ -774,7 +857,9 @@ fn two_instances_in_two_threads_match_sequential_runs() {
         let log = Log::default();
         let f = callbacks(&log);
         let c = ready(&fmu, &f);
+        // SAFETY: see the module docs.
         let r = unsafe { run(c, 0.0) };
+        // SAFETY: see the module docs.
         unsafe { fmi2FreeInstance(c) };
         r
     };
@@ -785,7 +870,9 @@ fn two_instances_in_two_threads_match_sequential_runs() {
                     let log = Log::default();
                     let f = callbacks(&log);
                     let c = ready(&fmu, &f);
+                    // SAFETY: see the module docs.
                     let r = unsafe { run(c, 0.0) };
+                    // SAFETY: see the module docs.
                     unsafe { fmi2FreeInstance(c) };
                     r
                 })
@@ -795,4 +882,62 @@ fn two_instances_in_two_threads_match_sequential_runs() {
     });
     assert_eq!(results[0], sequential);
     assert_eq!(results[1], sequential);
+}
+
+/// A logger that reads the force of the instance it logs for.
+struct Reentry {
+    component: std::sync::atomic::AtomicPtr<c_void>,
+    forces: Mutex<Vec<(fmi2Status, f64)>>,
+}
+
+unsafe extern "C" fn reentrant_logger(
+    env: fmi2ComponentEnvironment,
+    _name: fmi2String,
+    _status: fmi2Status,
+    _category: fmi2String,
+    _message: fmi2String,
+) {
+    // SAFETY: `env` is the `Reentry` of the test, which outlives the instance.
+    let reentry = unsafe { &*(env as *const Reentry) };
+    let c = reentry.component.load(Ordering::SeqCst);
+    let mut force = f64::NAN;
+    // SAFETY: the live component of the test.
+    let status = unsafe { fmi2GetReal(c, &FORCE, 1, &mut force) };
+    reentry.forces.lock().unwrap().push((status, force));
+}
+
+#[test]
+fn a_logger_may_call_back_into_the_instance() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let reentry = Reentry {
+        component: std::sync::atomic::AtomicPtr::new(std::ptr::null_mut()),
+        forces: Mutex::new(Vec::new()),
+    };
+    let log = Log::default();
+    let mut f = callbacks(&log);
+    // SAFETY: as in `callbacks`.
+    f.logger = Some(unsafe {
+        std::mem::transmute::<
+            unsafe extern "C" fn(
+                fmi2ComponentEnvironment,
+                fmi2String,
+                fmi2Status,
+                fmi2String,
+                fmi2String,
+            ),
+            fmi2CallbackLogger,
+        >(reentrant_logger)
+    });
+    f.componentEnvironment = &reentry as *const Reentry as *mut c_void;
+    let c = ready(&fmu, &f);
+    reentry.component.store(c, Ordering::SeqCst);
+    // SAFETY: see the module docs.
+    unsafe {
+        set(c, &[VELOCITY], &[2.0]);
+        // The error is logged after the call; the logger's own call reads the force
+        // (readable in the error phase) and logs nothing itself.
+        assert_eq!(fmi2DoStep(c, 0.0, -1.0, 0), fmi2Error);
+        assert_eq!(*reentry.forces.lock().unwrap(), [(fmi2OK, -0.9962 * 2.0)]);
+        fmi2FreeInstance(c);
+    }
 }

@@ -1,0 +1,716 @@
+//! One FMU instance without pointers: the FMI 2.0 co-simulation functions as safe methods on
+//! slices, with the phase checks of [`allowed`], the error rules and the log messages.
+//!
+//! Every method is one FMI call and returns its [`Status`]:
+//! - a call outside its phases is refused (fmi2Error, logged) and the phase stays;
+//! - a call that is allowed but fails (unknown value reference, NaN or infinite input,
+//!   h <= 0, a communication point that is not the instance's time, corrupt state bytes,
+//!   slices of different lengths, ...) returns fmi2Error, leaves the model state unchanged
+//!   and moves the instance to the error phase; fmi2Reset or fmi2SetFMUstate recover;
+//! - with `logCalls` on, each call is logged once, with its final status.
+//!
+//! Messages are collected ([`Instance::take_messages`]), never sent from here.
+
+use super::logging::{Category, LogSwitches, Message};
+use super::phase::{allowed, Function, Phase};
+use super::types::{
+    fmi2Boolean, fmi2CoSimulation, fmi2Integer, fmi2LastSuccessfulTime, fmi2StatusKind,
+    fmi2Terminated, fmi2Type, fmi2ValueReference, Status,
+};
+use super::uri::resource_path;
+use crate::model::{Model, ModelState, Resources};
+use crate::model_description::MAX_OUTPUT_DERIVATIVE_ORDER;
+use crate::variables::{DofUnit, Layout, Quantity};
+use std::ffi::{CStr, CString};
+
+/// One FMU instance (behind an `fmi2Component`).
+pub struct Instance {
+    name: CString,
+    log: LogSwitches,
+    messages: Vec<Message>,
+    phase: Phase,
+    model: Model,
+    layout: Layout,
+}
+
+/// A saved FMU state (behind an `fmi2FMUstate`): the model state and the phase.
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    guid: String,
+    phase: Phase,
+    state: ModelState,
+}
+
+/// The result of a call's body: its status, or why it failed.
+type Outcome = Result<Status, String>;
+
+fn same_length(a: (&str, usize), b: (&str, usize)) -> Result<(), String> {
+    if a.1 == b.1 {
+        Ok(())
+    } else {
+        Err(format!("{} has {} entries, {} has {}", a.0, a.1, b.0, b.1))
+    }
+}
+
+fn no_variables(kind: &str, vr: &[fmi2ValueReference]) -> Outcome {
+    match vr.first() {
+        None => Ok(Status::Ok),
+        Some(r) => Err(format!(
+            "this FMU has no {kind} variables (value reference {r})"
+        )),
+    }
+}
+
+impl Instance {
+    /// fmi2Instantiate: checks the arguments, reads the resources the URI names and checks
+    /// the GUID against them (the GUID derived from the resources, [`Resources::guid`]).
+    pub fn instantiate(
+        name: Option<&CStr>,
+        fmu_type: fmi2Type,
+        guid: Option<&str>,
+        resource_location: Option<&str>,
+        logging_on: bool,
+    ) -> Result<Instance, String> {
+        let name = name
+            .filter(|n| !n.to_bytes().is_empty())
+            .ok_or("instanceName is NULL or empty")?;
+        if fmu_type != fmi2CoSimulation {
+            return Err(format!(
+                "fmuType {fmu_type}: this FMU supports co-simulation only"
+            ));
+        }
+        let location = resource_location.ok_or("fmuResourceLocation is NULL or not UTF-8")?;
+        let dir = resource_path(location)?;
+        let resources = Resources::read(&dir).map_err(|e| e.to_string())?;
+        let expected = resources.guid();
+        let guid = guid.ok_or("fmuGUID is NULL or not UTF-8")?;
+        if guid != expected {
+            return Err(format!(
+                "GUID {guid} does not match the resources in {} (GUID {expected})",
+                dir.display()
+            ));
+        }
+        Instance::from_resources(name, &resources, logging_on)
+    }
+
+    /// An instance of the FMU these resources describe (no GUID check).
+    pub fn from_resources(
+        name: &CStr,
+        resources: &Resources,
+        logging_on: bool,
+    ) -> Result<Instance, String> {
+        let model = Model::from_resources(resources).map_err(|e| e.to_string())?;
+        let dofs = model
+            .dof_names()
+            .iter()
+            .map(|n| DofUnit::new(n, 0, false))
+            .collect();
+        let layout = Layout::new(dofs, resources.keep_inf_mass).map_err(|e| e.to_string())?;
+        let mut instance = Instance {
+            name: name.to_owned(),
+            log: LogSwitches::new(logging_on),
+            messages: Vec::new(),
+            phase: Phase::Instantiated,
+            model,
+            layout,
+        };
+        let text = format!(
+            "fmi2Instantiate: {} DOFs ({}), {} network states",
+            instance.model.dof_count(),
+            instance.model.dof_names().join(", "),
+            instance.model.system().state_size()
+        );
+        instance.log(Status::Ok, Category::Events, text);
+        Ok(instance)
+    }
+
+    /// The instance name given at instantiation.
+    pub fn name(&self) -> &CStr {
+        &self.name
+    }
+
+    /// The current phase.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// The model (tests look inside).
+    #[cfg(test)]
+    pub(crate) fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The messages collected since the last call, in order, for the master's logger.
+    pub fn take_messages(&mut self) -> Vec<Message> {
+        std::mem::take(&mut self.messages)
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Calls, errors and logging
+    // -----------------------------------------------------------------------------------
+
+    fn log(&mut self, status: Status, category: Category, text: String) {
+        if self.log.enabled(category) {
+            self.messages.push(Message {
+                status,
+                category,
+                text,
+            });
+        }
+    }
+
+    /// The one `logCalls` line of a call, placed before the call's other messages.
+    fn log_call(&mut self, first: usize, status: Status, describe: impl FnOnce() -> String) {
+        if self.log.enabled(Category::Calls) {
+            let line = Message {
+                status,
+                category: Category::Calls,
+                text: describe(),
+            };
+            self.messages.insert(first.min(self.messages.len()), line);
+        }
+    }
+
+    fn refuse(&mut self, function: Function) -> Status {
+        let text = format!(
+            "{}: not allowed in phase {:?} (call refused)",
+            function.name(),
+            self.phase
+        );
+        self.log(Status::Error, Category::Error, text);
+        Status::Error
+    }
+
+    fn fail(&mut self, function: Function, message: &str) -> Status {
+        let text = format!("{}: {message}", function.name());
+        self.log(Status::Error, Category::Error, text);
+        self.phase = Phase::Error;
+        Status::Error
+    }
+
+    /// One call: phase check, body, error rule, `logCalls` line.
+    fn run(&mut self, function: Function, body: impl FnOnce(&mut Self) -> Outcome) -> Status {
+        self.run_described(function, || function.name().to_string(), body)
+    }
+
+    fn run_described(
+        &mut self,
+        function: Function,
+        describe: impl FnOnce() -> String,
+        body: impl FnOnce(&mut Self) -> Outcome,
+    ) -> Status {
+        let first = self.messages.len();
+        let status = if allowed(function).contains(self.phase) {
+            body(self).unwrap_or_else(|message| self.fail(function, &message))
+        } else {
+            self.refuse(function)
+        };
+        self.log_call(first, status, describe);
+        status
+    }
+
+    /// For the C layer, before it reads a call's pointer arguments: refuses the call if its
+    /// phase does not allow it (as the method would).
+    pub(crate) fn refuse_outside_phase(&mut self, function: Function) -> Option<Status> {
+        if allowed(function).contains(self.phase) {
+            return None;
+        }
+        let first = self.messages.len();
+        let status = self.refuse(function);
+        self.log_call(first, status, || function.name().to_string());
+        Some(status)
+    }
+
+    /// For the C layer: a call whose pointer arguments are unusable fails like any call.
+    pub(crate) fn reject_arguments(&mut self, function: Function, message: &str) -> Status {
+        let first = self.messages.len();
+        let status = self.fail(function, message);
+        self.log_call(first, status, || function.name().to_string());
+        status
+    }
+
+    /// For the C layer, after a caught panic (a bug): the instance can only be freed.
+    pub(crate) fn enter_fatal(&mut self, function: Function) -> Status {
+        self.phase = Phase::Fatal;
+        let text = format!(
+            "{}: internal error (panic); the instance can only be freed",
+            function.name()
+        );
+        self.log(Status::Fatal, Category::Fatal, text);
+        let end = self.messages.len();
+        self.log_call(end, Status::Fatal, || function.name().to_string());
+        Status::Fatal
+    }
+
+    fn quantity(&self, vr: fmi2ValueReference) -> Result<Quantity, String> {
+        self.layout
+            .quantity(vr)
+            .ok_or_else(|| format!("unknown value reference {vr}"))
+    }
+
+    fn variable_name(&self, vr: fmi2ValueReference) -> String {
+        self.layout
+            .variable(vr)
+            .map(|v| v.name.clone())
+            .unwrap_or_else(|| format!("#{vr}"))
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Life cycle
+    // -----------------------------------------------------------------------------------
+
+    /// fmi2SetDebugLogging: all categories (`categories` empty) or the named ones.
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[&str]) -> Status {
+        self.run(Function::SetDebugLogging, |inst| {
+            inst.log.set(on, categories)?;
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2SetupExperiment: sets the start time (the tolerance and stop time are not needed).
+    pub fn setup_experiment(
+        &mut self,
+        _tolerance: Option<f64>,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Status {
+        self.run(Function::SetupExperiment, |inst| {
+            if let Some(stop) = stop_time {
+                if stop.is_nan() || stop < start_time {
+                    return Err(format!("stopTime {stop} is before startTime {start_time}"));
+                }
+            }
+            inst.model
+                .set_start_time(start_time)
+                .map_err(|e| e.to_string())?;
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2EnterInitializationMode.
+    pub fn enter_initialization_mode(&mut self) -> Status {
+        self.run(Function::EnterInitializationMode, |inst| {
+            inst.phase = Phase::InitializationMode;
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2ExitInitializationMode: ready to step.
+    pub fn exit_initialization_mode(&mut self) -> Status {
+        self.run(Function::ExitInitializationMode, |inst| {
+            inst.phase = Phase::StepComplete;
+            let text = format!(
+                "initialized at t = {} with rho = {}, g = {}",
+                inst.model.time(),
+                inst.model.state().rho,
+                inst.model.state().g
+            );
+            inst.log(Status::Ok, Category::Events, text);
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2Terminate.
+    pub fn terminate(&mut self) -> Status {
+        self.run(Function::Terminate, |inst| {
+            inst.phase = Phase::Terminated;
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2Reset: back to the instantiated phase with the start values (also after an error).
+    pub fn reset(&mut self) -> Status {
+        self.run(Function::Reset, |inst| {
+            inst.model.reset().map_err(|e| e.to_string())?;
+            inst.phase = Phase::Instantiated;
+            let text = "fmi2Reset: back to the start values".to_string();
+            inst.log(Status::Ok, Category::Events, text);
+            Ok(Status::Ok)
+        })
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Getting and setting values
+    // -----------------------------------------------------------------------------------
+
+    /// fmi2GetReal.
+    pub fn get_real(&mut self, vr: &[fmi2ValueReference], values: &mut [f64]) -> Status {
+        self.run(Function::GetReal, |inst| {
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            for (r, out) in vr.iter().zip(values.iter_mut()) {
+                let q = inst.quantity(*r)?;
+                *out = inst.model.value(q).map_err(|e| e.to_string())?;
+            }
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2SetReal: rho and g before initialization ends, the inputs any time before
+    /// termination. All values are checked before any is applied.
+    pub fn set_real(&mut self, vr: &[fmi2ValueReference], values: &[f64]) -> Status {
+        self.run(Function::SetReal, |inst| {
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            let before_init = matches!(inst.phase, Phase::Instantiated | Phase::InitializationMode);
+            let (mut rho, mut g) = (inst.model.state().rho, inst.model.state().g);
+            let mut parameters = false;
+            for (r, x) in vr.iter().zip(values) {
+                let q = inst.quantity(*r)?;
+                match q {
+                    Quantity::Rho | Quantity::G if !before_init => {
+                        return Err(format!(
+                            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                    Quantity::Rho => {
+                        rho = *x;
+                        parameters = true;
+                    }
+                    Quantity::G => {
+                        g = *x;
+                        parameters = true;
+                    }
+                    Quantity::Velocity(_) | Quantity::Acceleration(_) => {
+                        // Checked before anything is set: a refused call changes nothing.
+                        if !crate::model::acceptable(*x) {
+                            return Err(format!(
+                                "{} = {x:e} is not finite or exceeds {:e} in magnitude (call refused)",
+                                inst.variable_name(*r),
+                                crate::model::MAX_INPUT
+                            ));
+                        }
+                    }
+                    _ => {
+                        return Err(format!(
+                            "{} is not an input or parameter and cannot be set",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                }
+            }
+            if parameters {
+                inst.model
+                    .set_parameters(rho, g)
+                    .map_err(|e| e.to_string())?;
+            }
+            for (r, x) in vr.iter().zip(values) {
+                let q = inst.quantity(*r)?;
+                if !matches!(q, Quantity::Rho | Quantity::G) {
+                    inst.model.set_value(q, *x).map_err(|e| e.to_string())?;
+                }
+            }
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2GetInteger: there are no Integer variables, only an empty `vr` succeeds.
+    pub fn get_integer(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::GetInteger, |_| no_variables("Integer", vr))
+    }
+
+    /// fmi2GetBoolean: there are no Boolean variables, only an empty `vr` succeeds.
+    pub fn get_boolean(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::GetBoolean, |_| no_variables("Boolean", vr))
+    }
+
+    /// fmi2GetString: there are no String variables, only an empty `vr` succeeds.
+    pub fn get_string(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::GetString, |_| no_variables("String", vr))
+    }
+
+    /// fmi2SetInteger: there are no Integer variables, only an empty `vr` succeeds.
+    pub fn set_integer(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::SetInteger, |_| no_variables("Integer", vr))
+    }
+
+    /// fmi2SetBoolean: there are no Boolean variables, only an empty `vr` succeeds.
+    pub fn set_boolean(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::SetBoolean, |_| no_variables("Boolean", vr))
+    }
+
+    /// fmi2SetString: there are no String variables, only an empty `vr` succeeds.
+    pub fn set_string(&mut self, vr: &[fmi2ValueReference]) -> Status {
+        self.run(Function::SetString, |_| no_variables("String", vr))
+    }
+
+    // -----------------------------------------------------------------------------------
+    // FMU state
+    // -----------------------------------------------------------------------------------
+
+    fn check_own(&self, snapshot: &Snapshot) -> Result<(), String> {
+        if snapshot.guid == self.model.guid() {
+            Ok(())
+        } else {
+            Err("FMUstate belongs to another FMU".to_string())
+        }
+    }
+
+    /// Stores `snapshot` in `saved`: a new one, or over an existing state of this FMU.
+    fn store(&self, saved: &mut Option<Snapshot>, snapshot: Snapshot) -> Result<(), String> {
+        if let Some(existing) = saved {
+            self.check_own(existing)?;
+        }
+        *saved = Some(snapshot);
+        Ok(())
+    }
+
+    /// fmi2GetFMUstate: saves the state into `saved` (new, or overwriting a state of this FMU).
+    pub fn get_fmu_state(&mut self, saved: &mut Option<Snapshot>) -> Status {
+        self.run(Function::GetFmuState, |inst| {
+            let snapshot = Snapshot {
+                guid: inst.model.guid().to_string(),
+                phase: inst.phase,
+                state: inst.model.state().clone(),
+            };
+            inst.store(saved, snapshot)?;
+            let text = format!("state saved at t = {}", inst.model.time());
+            inst.log(Status::Ok, Category::Events, text);
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2SetFMUstate: restores a saved state, including its phase (this also leaves the
+    /// error phase).
+    pub fn set_fmu_state(&mut self, saved: &Snapshot) -> Status {
+        self.run(Function::SetFmuState, |inst| {
+            inst.check_own(saved)?;
+            inst.model
+                .set_state(saved.state.clone())
+                .map_err(|e| e.to_string())?;
+            inst.phase = saved.phase;
+            let text = format!("state restored at t = {}", inst.model.time());
+            inst.log(Status::Ok, Category::Events, text);
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2FreeFMUstate: drops a saved state (`None`: nothing to free).
+    pub fn free_fmu_state(&mut self, saved: Option<Snapshot>) -> Status {
+        self.run(Function::FreeFmuState, |_| {
+            drop(saved);
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2SerializedFMUstateSize.
+    pub fn serialized_fmu_state_size(&mut self, _saved: &Snapshot, size: &mut usize) -> Status {
+        self.run(Function::SerializedFmuStateSize, |inst| {
+            *size = inst.model.serialized_size();
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2SerializeFMUstate: `bytes` must have exactly the serialized size.
+    pub fn serialize_fmu_state(&mut self, saved: &Snapshot, bytes: &mut [u8]) -> Status {
+        self.run(Function::SerializeFmuState, |inst| {
+            inst.check_own(saved)?;
+            let serialized = inst.model.serialize_state(&saved.state, saved.phase.tag());
+            if bytes.len() != serialized.len() {
+                return Err(format!(
+                    "size {}, the serialized state has {} bytes",
+                    bytes.len(),
+                    serialized.len()
+                ));
+            }
+            bytes.copy_from_slice(&serialized);
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2DeSerializeFMUstate: reads serialized bytes into `saved` (new, or overwriting a
+    /// state of this FMU); corrupt or foreign bytes are refused.
+    pub fn deserialize_fmu_state(&mut self, bytes: &[u8], saved: &mut Option<Snapshot>) -> Status {
+        self.run(Function::DeSerializeFmuState, |inst| {
+            let (state, tag) = inst.model.deserialize(bytes).map_err(|e| e.to_string())?;
+            let phase = Phase::from_tag(tag)
+                .ok_or_else(|| format!("serialized phase {tag} is not valid"))?;
+            let snapshot = Snapshot {
+                guid: inst.model.guid().to_string(),
+                phase,
+                state,
+            };
+            inst.store(saved, snapshot)?;
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2GetDirectionalDerivative: `dv_unknown = J dv_known` for the listed unknowns and
+    /// knowns (d force / d velocity = -damping_direct, d force / d acceleration =
+    /// -added_mass_inf, and those of power and energy; the model supplies each partial).
+    pub fn get_directional_derivative(
+        &mut self,
+        unknowns: &[fmi2ValueReference],
+        knowns: &[fmi2ValueReference],
+        dv_known: &[f64],
+        dv_unknown: &mut [f64],
+    ) -> Status {
+        self.run(Function::GetDirectionalDerivative, |inst| {
+            same_length(
+                ("vKnown_ref[]", knowns.len()),
+                ("dvKnown[]", dv_known.len()),
+            )?;
+            same_length(
+                ("vUnknown_ref[]", unknowns.len()),
+                ("dvUnknown[]", dv_unknown.len()),
+            )?;
+            let known_q = knowns
+                .iter()
+                .map(|r| inst.quantity(*r))
+                .collect::<Result<Vec<_>, _>>()?;
+            for (u, o) in unknowns.iter().zip(dv_unknown.iter_mut()) {
+                let uq = inst.quantity(*u)?;
+                let mut sum = 0.0;
+                for (kq, s) in known_q.iter().zip(dv_known) {
+                    sum += inst
+                        .model
+                        .partial_derivative(uq, *kq)
+                        .map_err(|e| e.to_string())?
+                        * s;
+                }
+                *o = sum;
+            }
+            Ok(Status::Ok)
+        })
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Co-simulation
+    // -----------------------------------------------------------------------------------
+
+    /// fmi2SetRealInputDerivatives (order 1 only): first-order hold over the next steps; the
+    /// derivative stays set until changed.
+    pub fn set_real_input_derivatives(
+        &mut self,
+        vr: &[fmi2ValueReference],
+        order: &[fmi2Integer],
+        values: &[f64],
+    ) -> Status {
+        self.run(Function::SetRealInputDerivatives, |inst| {
+            same_length(("vr[]", vr.len()), ("order[]", order.len()))?;
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            let mut checked = Vec::with_capacity(vr.len());
+            for ((r, k), x) in vr.iter().zip(order).zip(values) {
+                let q = inst.quantity(*r)?;
+                if !matches!(q, Quantity::Velocity(_) | Quantity::Acceleration(_)) {
+                    return Err(format!("{} is not an input", inst.variable_name(*r)));
+                }
+                if *k != 1 {
+                    return Err(format!(
+                        "derivative order {k} of {}: only order 1 is supported",
+                        inst.variable_name(*r)
+                    ));
+                }
+                if !crate::model::acceptable(*x) {
+                    return Err(format!(
+                        "derivative of {} = {x:e} is not finite or exceeds {:e} in magnitude \
+                         (call refused)",
+                        inst.variable_name(*r),
+                        crate::model::MAX_INPUT
+                    ));
+                }
+                checked.push((q, *x));
+            }
+            for (q, x) in checked {
+                inst.model
+                    .set_input_derivative(q, x)
+                    .map_err(|e| e.to_string())?;
+            }
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2GetRealOutputDerivatives: first derivatives of outputs at the current time.
+    pub fn get_real_output_derivatives(
+        &mut self,
+        vr: &[fmi2ValueReference],
+        order: &[fmi2Integer],
+        values: &mut [f64],
+    ) -> Status {
+        self.run(Function::GetRealOutputDerivatives, |inst| {
+            same_length(("vr[]", vr.len()), ("order[]", order.len()))?;
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            for ((r, k), out) in vr.iter().zip(order).zip(values.iter_mut()) {
+                let q = inst.quantity(*r)?;
+                if *k < 1 || *k as u32 > MAX_OUTPUT_DERIVATIVE_ORDER {
+                    return Err(format!(
+                        "derivative order {k} of {}: only order 1 is provided",
+                        inst.variable_name(*r)
+                    ));
+                }
+                *out = inst.model.output_derivative(q).map_err(|e| e.to_string())?;
+            }
+            Ok(Status::Ok)
+        })
+    }
+
+    /// fmi2DoStep: one communication step from `current` (the instance's time) by h > 0.
+    pub fn do_step(&mut self, current: f64, h: f64, _no_set_state_prior: bool) -> Status {
+        self.run_described(
+            Function::DoStep,
+            || format!("fmi2DoStep(t = {current}, h = {h})"),
+            |inst| {
+                inst.model.step(current, h).map_err(|e| e.to_string())?;
+                Ok(Status::Ok)
+            },
+        )
+    }
+
+    /// fmi2CancelStep: steps are synchronous, there is never a step to cancel.
+    pub fn cancel_step(&mut self) -> Status {
+        self.run(Function::CancelStep, |_| Ok(Status::Error))
+    }
+
+    fn status_not_available(&mut self, function: Function, kind: fmi2StatusKind) -> Outcome {
+        let text = format!(
+            "{}: status kind {kind} is not available (steps are synchronous)",
+            function.name()
+        );
+        self.log(Status::Discard, Category::Warning, text);
+        Ok(Status::Discard)
+    }
+
+    /// fmi2GetStatus: no asynchronous steps, `fmi2Discard`.
+    pub fn get_status(&mut self, kind: fmi2StatusKind) -> Status {
+        let function = Function::GetStatus;
+        self.run(function, |inst| inst.status_not_available(function, kind))
+    }
+
+    /// fmi2GetRealStatus: `fmi2LastSuccessfulTime` is the instance's time.
+    pub fn get_real_status(&mut self, kind: fmi2StatusKind, value: &mut f64) -> Status {
+        let function = Function::GetRealStatus;
+        self.run(function, |inst| {
+            if kind == fmi2LastSuccessfulTime {
+                *value = inst.model.time();
+                return Ok(Status::Ok);
+            }
+            inst.status_not_available(function, kind)
+        })
+    }
+
+    /// fmi2GetIntegerStatus: no Integer status, `fmi2Discard`.
+    pub fn get_integer_status(&mut self, kind: fmi2StatusKind) -> Status {
+        let function = Function::GetIntegerStatus;
+        self.run(function, |inst| inst.status_not_available(function, kind))
+    }
+
+    /// fmi2GetBooleanStatus: `fmi2Terminated` is false (the FMU never asks to stop).
+    pub fn get_boolean_status(&mut self, kind: fmi2StatusKind, value: &mut fmi2Boolean) -> Status {
+        let function = Function::GetBooleanStatus;
+        self.run(function, |inst| {
+            if kind == fmi2Terminated {
+                *value = 0;
+                return Ok(Status::Ok);
+            }
+            inst.status_not_available(function, kind)
+        })
+    }
+
+    /// fmi2GetStringStatus: no String status, `fmi2Discard`.
+    pub fn get_string_status(&mut self, kind: fmi2StatusKind) -> Status {
+        let function = Function::GetStringStatus;
+        self.run(function, |inst| inst.status_not_available(function, kind))
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,61 @@
+//! The FMI 2.0 co-simulation interface, in two depths.
+//!
+//! - The C layer (module `abi`, see "C layer" below): the 34 common and co-simulation
+//!   functions, exported unprefixed (`fmi2Instantiate`, `fmi2DoStep`, ...). The only module
+//!   with `unsafe` code: it checks the pointers the master passes, turns them into slices
+//!   and strings, catches panics and calls the safe layer. An `fmi2Component` is a boxed
+//!   [`Instance`] (with the copied callbacks); there is no global state.
+//! - [`Instance`]: one FMU instance as safe methods on slices, one per FMI function, with
+//!   the phase rules of [`allowed`] (one table, next to the FMI 2.0 state table), the error
+//!   rules and the log messages. The model ([`crate::model`]) never sees FMI types.
+//!
+//! # Phases (FMI 2.0, section 4.2.4)
+//! instantiated -> initialization mode -> step complete -> terminated, plus error and fatal.
+//! A call not allowed in the current phase returns `fmi2Error`, logs why, and leaves the
+//! phase alone. A call that is allowed but fails (bad pointer, unknown value reference,
+//! NaN or infinite input, h <= 0, a communication point that is not the instance's time,
+//! corrupt state bytes, ...) returns `fmi2Error`, leaves the model state unchanged and moves
+//! the instance to the error phase, as the standard says; `fmi2Reset` or `fmi2SetFMUstate`
+//! make it usable again. A panic (a bug) is caught and gives `fmi2Fatal`.
+//!
+//! # Resources and GUID
+//! `fmuResourceLocation` is a `file:` URI ([`resource_path`]). The GUID given by the master
+//! must equal the GUID derived from the resources ([`crate::model::Resources::guid`]).
+//!
+//! # Logging
+//! The callbacks are copied at instantiation; a NULL logger is tolerated. An instance
+//! collects its messages during a call; the C layer passes them to the logger after the
+//! call, when the instance is no longer borrowed. Messages are passed as the logger's
+//! format string with `%` escaped as `%%`. Errors are always logged (category
+//! `logStatusError`); warnings, events and calls only when debug logging is on for their
+//! category (`fmi2SetDebugLogging`; `loggingOn` at instantiation turns all on). With
+//! `logCalls` on, each call is logged once, with its final status; nothing else is logged
+//! per step.
+//!
+//! # Input and output derivatives
+//! `fmi2SetRealInputDerivatives` (order 1) ramps the input over the following steps
+//! (first-order hold; the derivative stays set until changed). `fmi2GetRealOutputDerivatives`
+//! gives order 1. `fmi2GetDirectionalDerivative`: d force / d velocity = -damping_direct,
+//! d force / d acceleration = -added_mass_inf (when present), and those of power and energy;
+//! the knowns rho and g are passed to the model as well.
+//!
+//! # C layer
+//! Every exported function is `unsafe extern "C"`: the caller (an FMI master) must pass
+//! pointers as FMI 2.0 specifies. Each function checks its pointers for NULL (and
+//! alignment) before use, checks that the component or FMU state carries this module's
+//! magic number (a foreign or freed one is refused), and catches panics.
+
+#[allow(unsafe_code)]
+mod abi;
+mod instance;
+mod logging;
+mod phase;
+mod types;
+mod uri;
+
+pub use abi::*;
+pub use instance::{Instance, Snapshot};
+pub use logging::{Category, Message};
+pub use phase::{allowed, Function, Phase, PhaseSet};
+pub use types::*;
+pub use uri::resource_path;
