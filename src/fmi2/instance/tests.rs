@@ -396,7 +396,6 @@ fn rho_and_g_reach_the_model_as_knowns_in_initialization_mode_and_after() {
 }
 
 #[test]
-#[ignore = "needs model support for rho/g derivatives"]
 fn directional_derivatives_with_respect_to_rho_and_g_match_finite_differences() {
     // Two DOFs with A_inf in the force: velocities 100, 101; forces 102, 103; power 104;
     // energy 105; added_mass_inf 106..109; damping_direct 110..113; accelerations 114, 115.
