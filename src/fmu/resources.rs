@@ -145,47 +145,25 @@ impl Resources {
     }
 }
 
-/// `keep_inf_mass` of `options.xml` (quick_xml events; the element may be anywhere).
+/// `keep_inf_mass` of `options.xml`: the root `<hydrofmu_options format="1" keep_inf_mass="true|false"/>`.
 fn parse_options(text: &str) -> Result<bool, ResourcesError> {
-    use quick_xml::events::Event;
-    let mut reader = quick_xml::Reader::from_str(text);
-    loop {
-        match reader.read_event() {
-            Err(e) => return Err(ResourcesError::Options(format!("options.xml: {e}"))),
-            Ok(Event::Eof) => {
-                return Err(ResourcesError::Options(
-                    "options.xml has no <hydrofmu_options>".into(),
-                ))
-            }
-            Ok(Event::Start(e)) | Ok(Event::Empty(e))
-                if e.name().as_ref() == b"hydrofmu_options" =>
-            {
-                let mut keep = None;
-                let mut format = None;
-                for a in e.attributes() {
-                    let a = a.map_err(|e| ResourcesError::Options(format!("options.xml: {e}")))?;
-                    let value = String::from_utf8_lossy(&a.value).into_owned();
-                    match a.key.as_ref() {
-                        b"keep_inf_mass" => keep = Some(value),
-                        b"format" => format = Some(value),
-                        _ => {}
-                    }
-                }
-                if format.as_deref() != Some("1") {
-                    return Err(ResourcesError::Options(format!(
-                        "options.xml: format {format:?}, expected \"1\""
-                    )));
-                }
-                return match keep.as_deref() {
-                    Some("true") => Ok(true),
-                    Some("false") => Ok(false),
-                    other => Err(ResourcesError::Options(format!(
-                        "options.xml: keep_inf_mass = {other:?}, expected true or false"
-                    ))),
-                };
-            }
-            Ok(_) => {}
-        }
+    let fail = |message: String| ResourcesError::Options(format!("options.xml: {message}"));
+    let root = crate::xml::parse(text).map_err(|e| fail(e.to_string()))?;
+    if root.name != "hydrofmu_options" {
+        return Err(ResourcesError::Options(
+            "options.xml has no <hydrofmu_options>".into(),
+        ));
+    }
+    let format = root.attribute("format");
+    if format != Some("1") {
+        return Err(fail(format!("format {format:?}, expected \"1\"")));
+    }
+    match root.attribute("keep_inf_mass") {
+        Some("true") => Ok(true),
+        Some("false") => Ok(false),
+        other => Err(fail(format!(
+            "keep_inf_mass = {other:?}, expected true or false"
+        ))),
     }
 }
 
