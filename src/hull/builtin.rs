@@ -48,7 +48,11 @@ impl Hull {
         Ok(Hull {
             name: "semicircle".to_string(),
             half_beam: radius,
-            contour: Contour::Arc { radius, depth: 0.0 },
+            contour: Contour::Arc {
+                radius,
+                depth: 0.0,
+                depth_ratio: 0.0,
+            },
             dofs,
             notes: Vec::new(),
         })
@@ -77,6 +81,7 @@ impl Hull {
             contour: Contour::Arc {
                 radius,
                 depth: depth_over_radius * radius,
+                depth_ratio: depth_over_radius,
             },
             dofs: vec![
                 rigid("sway", RigidKind::Sway),

@@ -55,7 +55,7 @@ impl Hull {
             num(self.half_beam)
         ));
         match &self.contour {
-            Contour::Arc { radius, depth } => out.push_str(&format!(
+            Contour::Arc { radius, depth, .. } => out.push_str(&format!(
                 "  <circle radius=\"{}\" depth=\"{}\"/>\n",
                 num(*radius),
                 num(*depth)
@@ -396,7 +396,14 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     _ => {}
                 }
             }
-            (Contour::Arc { radius, depth }, None)
+            (
+                Contour::Arc {
+                    radius,
+                    depth,
+                    depth_ratio: depth / half_beam,
+                },
+                None,
+            )
         }
         Geometry::Polyline {
             mut points,

@@ -32,6 +32,7 @@
 mod builtin;
 mod craig_bampton;
 mod file;
+mod units;
 mod validate;
 
 pub use craig_bampton::{
@@ -155,7 +156,12 @@ struct Dof {
 #[derive(Clone, Debug)]
 enum Contour {
     /// depth == 0: semicircle (open, theta = pi s); depth > radius: full circle (theta = 2 pi s).
-    Arc { radius: f64, depth: f64 },
+    /// `depth_ratio`: the centre depth over the reference half-beam, as given (H/R).
+    Arc {
+        radius: f64,
+        depth: f64,
+        depth_ratio: f64,
+    },
     /// `knots[i]`: s at vertex i; closed contours have one more knot (1.0, back at vertex 0).
     Polyline {
         points: Vec<Point>,
@@ -269,7 +275,7 @@ impl Hull {
     /// Total arc length of the contour (closed: once around), metres.
     pub fn contour_length(&self) -> f64 {
         match &self.contour {
-            Contour::Arc { radius, depth } if *depth > 0.0 => 2.0 * PI * radius,
+            Contour::Arc { radius, depth, .. } if *depth > 0.0 => 2.0 * PI * radius,
             Contour::Arc { radius, .. } => PI * radius,
             Contour::Polyline { length, .. } => *length,
         }
@@ -279,7 +285,7 @@ impl Hull {
     pub fn point(&self, s: f64) -> Point {
         let s = s.clamp(0.0, 1.0);
         match &self.contour {
-            Contour::Arc { radius, depth } => {
+            Contour::Arc { radius, depth, .. } => {
                 let (sn, cs) = arc_sin_cos(*depth, s);
                 [-radius * cs, -depth - radius * sn]
             }
