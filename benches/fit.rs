@@ -6,10 +6,12 @@
 //! ```
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FrequencyResponse};
 use hydrofmu::realize::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::units;
 use std::hint::black_box;
 
 fn semicircle() -> FrequencyResponse {
@@ -24,11 +26,11 @@ fn semicircle() -> FrequencyResponse {
         &|_, _| {},
     )
     .expect("sweep");
-    FrequencyResponse::from_sweep(&result, 1025.0, 9.81)
+    FrequencyResponse::from_sweep(&result, DEFAULT_RHO, DEFAULT_G)
 }
 
 fn omega(kr: f64) -> f64 {
-    (kr * 9.81).sqrt()
+    units::omega_from_kr(kr, 1.0, DEFAULT_G)
 }
 
 fn fits(c: &mut Criterion) {

@@ -14,6 +14,7 @@ use crate::bem::{BemError, IrregularFrequencies, Problem, RadiationSolution};
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelError, PanelParams};
+use crate::units;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -334,7 +335,7 @@ pub fn run(
     let solver = Solver::new(hull, &params.panels, params.extrapolation_levels)?;
     let mesh = solver.mesh();
     let radius = hull.reference_half_beam();
-    let scale = std::f64::consts::PI * radius * radius;
+    let scale = units::added_mass_scale(1.0, radius);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(params.threads)
         .build()
@@ -360,7 +361,7 @@ pub fn run(
 
     let solve_at = |kr: f64| {
         let surface = FreeSurface::Wave {
-            wavenumber: kr / radius,
+            wavenumber: units::wavenumber_from_kr(kr, radius),
         };
         solver.solve(surface, params.irregular_frequencies)
     };
@@ -397,7 +398,9 @@ pub fn run(
                     .reciprocity_residual
                     .push(solution.reciprocity_residual);
                 if coarse.is_none() {
-                    coarse = mesh.wavelength_warning(kr / radius).map(|w| (kr, w));
+                    coarse = mesh
+                        .wavelength_warning(units::wavenumber_from_kr(kr, radius))
+                        .map(|w| (kr, w));
                 }
             }
             Err(err) => result.failures.push((kr, err.to_string())),

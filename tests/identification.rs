@@ -6,6 +6,7 @@ use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FrequencyResponse};
 use hydrofmu::realize::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::units;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -37,7 +38,7 @@ fn semicircle() -> &'static FrequencyResponse {
 }
 
 fn omega_of(kr: f64) -> f64 {
-    (kr * G).sqrt()
+    units::omega_from_kr(kr, 1.0, G)
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! the hull on an ascending frequency grid, with `A_inf` (SI, per unit length, symmetric
 //! n x n, time factor `exp(+i omega t)`).
 
+use crate::units;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 
@@ -30,10 +31,14 @@ impl FrequencyResponse {
     /// `omega = sqrt(kR g / R)`, `A~ = rho pi R^2 (A~ / (rho pi R^2))`.
     pub fn from_sweep(sweep: &crate::sweep::SweepResult, rho: f64, g: f64) -> FrequencyResponse {
         let radius = sweep.reference_half_beam;
-        let scale = rho * std::f64::consts::PI * radius * radius;
+        let scale = units::added_mass_scale(rho, radius);
         FrequencyResponse {
             dof_names: sweep.dof_names.clone(),
-            omega: sweep.kr.iter().map(|kr| (kr * g / radius).sqrt()).collect(),
+            omega: sweep
+                .kr
+                .iter()
+                .map(|kr| units::omega_from_kr(*kr, radius, g))
+                .collect(),
             added_mass: sweep
                 .added_mass
                 .iter()

@@ -26,7 +26,7 @@ pub(super) fn log_grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 
 /// omega (rad/s) of kR for R = 1 m.
 fn omega_of(kr: f64) -> f64 {
-    (kr * G).sqrt()
+    crate::units::omega_from_kr(kr, 1.0, G)
 }
 
 pub(super) fn stage(m: f64, w: f64, zeta: f64) -> Stage {
