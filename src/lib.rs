@@ -18,7 +18,6 @@
 #![warn(missing_docs)]
 
 pub mod bem;
-pub mod convolution;
 pub mod discretize;
 pub mod fmi2;
 pub mod green;
@@ -27,7 +26,6 @@ pub mod identify;
 pub mod model;
 pub mod model_description;
 pub mod panels;
-pub mod plot;
 pub mod realize;
 pub mod sweep;
 pub mod variables;

@@ -3,7 +3,7 @@
 use crate::pipeline::{self, Band, Built, FitRequest};
 use crate::sweep_cmd;
 use clap::Args;
-use hydrofmu::plot::{self, Figure, Scale, Style};
+use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::realize::NetworkForm;
 use std::fmt::Write as _;
 use std::path::PathBuf;
