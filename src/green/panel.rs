@@ -10,8 +10,8 @@
 mod tests;
 
 use super::exp_integral::{ei_series_sum, EULER_GAMMA};
-use super::{log_ratio, Point};
 use super::table::QTable;
+use super::{log_ratio, Point};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 

@@ -151,8 +151,7 @@ fn harmonic_mean_value_and_laplacian() {
             );
             // 5-point Laplacian: O(h^2) truncation, h = 1e-3 rad.
             let h = 1e-2 * rad;
-            let f =
-                |dx: f64, dy: f64| g.value_and_gradient([centre[0] + dx, centre[1] + dy], x0).0;
+            let f = |dx: f64, dy: f64| g.value_and_gradient([centre[0] + dx, centre[1] + dy], x0).0;
             let lap =
                 (f(h, 0.0) + f(-h, 0.0) + f(0.0, h) + f(0.0, -h) - 4.0 * f(0.0, 0.0)) / (h * h);
             let curvature = (f(h, 0.0) - 2.0 * f(0.0, 0.0) + f(-h, 0.0)).norm() / (h * h);
@@ -331,16 +330,15 @@ fn timing() {
         args.iter().map(|&z| table.q_and_exp(-z).0).sum()
     });
     println!("tabulated Q and e^-p: {t:.0} ns/call");
-    let sweep =
-        |g: &GreenFunction, f: fn(&GreenFunction, Point, Point, Point) -> PanelIntegral| {
-            let mut acc = c(0.0, 0.0);
-            for x in &centres {
-                for w in nodes.windows(2) {
-                    acc += f(g, *x, w[0], w[1]).gradient[1];
-                }
+    let sweep = |g: &GreenFunction, f: fn(&GreenFunction, Point, Point, Point) -> PanelIntegral| {
+        let mut acc = c(0.0, 0.0);
+        for x in &centres {
+            for w in nodes.windows(2) {
+                acc += f(g, *x, w[0], w[1]).gradient[1];
             }
-            acc
-        };
+        }
+        acc
+    };
     let rigid = GreenFunction::new(FreeSurface::RigidLid).unwrap();
     let t = measure(n * n, 2e8, || sweep(&rigid, GreenFunction::panel_integral));
     println!("panel_integral (rigid lid): {t:.0} ns/call");

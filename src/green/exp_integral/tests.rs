@@ -24,8 +24,8 @@ fn scaled_e1_by_quadrature(quad: &Quadrature, z: Complex64) -> Complex64 {
 /// Test points z = rho e^{i theta} over the whole plane, many in the third quadrant.
 fn e1_test_points() -> Vec<Complex64> {
     let radii = [
-        1e-8, 1e-3, 0.1, 0.5, 1.0, 1.9, 2.1, 3.0, 4.5, 7.0, 12.0, 25.0, 39.0, 41.0, 80.0,
-        300.0, 2e5,
+        1e-8, 1e-3, 0.1, 0.5, 1.0, 1.9, 2.1, 3.0, 4.5, 7.0, 12.0, 25.0, 39.0, 41.0, 80.0, 300.0,
+        2e5,
     ];
     let angles = [
         -PI + 1e-9,

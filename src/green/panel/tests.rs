@@ -170,9 +170,8 @@ fn panel_integral_is_additive_across_near_and_far_forms() {
                     pot += part.potential;
                     grad[0] += part.gradient[0];
                     grad[1] += part.gradient[1];
-                    scale += part.potential.norm()
-                        + part.gradient[0].norm()
-                        + part.gradient[1].norm();
+                    scale +=
+                        part.potential.norm() + part.gradient[0].norm() + part.gradient[1].norm();
                 }
                 let err = (pot - whole.potential).norm()
                     + (grad[0] - whole.gradient[0]).norm()
@@ -205,8 +204,7 @@ fn dirichlet_part_plus_the_rest_is_the_whole() {
                 for i in 0..2 {
                     let sum = d.gradient[i] + rest.gradient[i];
                     if whole.gradient[i].is_finite() {
-                        let tol =
-                            1e-14 * (whole.gradient[i].norm() + d.gradient[i].norm() + 1.0);
+                        let tol = 1e-14 * (whole.gradient[i].norm() + d.gradient[i].norm() + 1.0);
                         assert!((whole.gradient[i] - sum).norm() <= tol, "{:?}", g.surface());
                     }
                 }
@@ -244,8 +242,7 @@ fn wave_far_series_matches_exact_form() {
                     let exact = panel.wave_exact(zf, k, &table);
                     let tol = 1e-13 * dist;
                     assert!(
-                        (far.q_integral - exact.q_integral).norm()
-                            <= tol * far.q_integral.norm()
+                        (far.q_integral - exact.q_integral).norm() <= tol * far.q_integral.norm()
                     );
                     assert!(
                         (far.dq_integral - exact.dq_integral).norm()
@@ -270,8 +267,7 @@ fn on_panel_limit_from_the_fluid_side() {
                 let x = [a[0] + frac * len * t[0], a[1] + frac * len * t[1]];
                 let on = g.panel_integral(x, a, b);
                 let normal = |p: &PanelIntegral| p.gradient[0] * n[0] + p.gradient[1] * n[1];
-                let tangential =
-                    |p: &PanelIntegral| p.gradient[0] * t[0] + p.gradient[1] * t[1];
+                let tangential = |p: &PanelIntegral| p.gradient[0] * t[0] + p.gradient[1] * t[1];
                 // Fluid side (right of a->b, -n) is continuous with the on-panel value,
                 // the body side differs by the jump +1.
                 let eps = 1e-8 * len;
