@@ -1,14 +1,12 @@
-//! One co-simulation step of the default 9-DOF semicircle network: through the C ABI (set 9
-//! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core), and the same radiation
-//! force by direct convolution over a 6000-step history (the classic alternative).
+//! One co-simulation step of the default 9-DOF semicircle network through the C ABI (set 9
+//! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core). The same radiation
+//! force by direct convolution: `cargo bench -p fmu-pack --bench convolution`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use hydrofmu::convolution::ConvolutionForce;
 use hydrofmu::fmi2::*;
 use hydrofmu::model::Resources;
 use hydrofmu::model_description::FIRST_PER_HULL_REFERENCE;
 use hydrofmu::realize::Network;
-use nalgebra::DVector;
 use std::ffi::{c_void, CString};
 
 /// The network `fmu-pack` fits for the built-in semicircle with default settings
@@ -35,8 +33,7 @@ fn step(c: &mut Criterion) {
         componentEnvironment: std::ptr::null_mut::<c_void>(),
     };
     let network = Network::from_xml_str(NETWORK, "semicircle_9dof.xml").unwrap();
-    let ss = network.state_space().unwrap();
-    let states = ss.state_count();
+    let states = network.state_space().unwrap().state_count();
     let n = network.dof_count() as u32;
     let velocity: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + i).collect();
     let force: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + n + i).collect();
@@ -82,26 +79,6 @@ fn step(c: &mut Criterion) {
         fmi2FreeInstance(comp);
     }
     let _ = std::fs::remove_dir_all(&dir);
-
-    // The same force by convolution over 6000 steps of history (h = 0.01 s: 60 s).
-    let mut convolution = ConvolutionForce::new(&ss, 0.01, 6000).unwrap();
-    let mut velocity = DVector::zeros(n as usize);
-    let mut force = DVector::zeros(n as usize);
-    let mut k = 0u64;
-    c.bench_function(
-        "convolution step, semicircle 9 DOFs, 6000-step history",
-        |b| {
-            b.iter(|| {
-                let phase = (k % 1000) as f64 * 1e-3;
-                for (i, x) in velocity.iter_mut().enumerate() {
-                    *x = phase + i as f64 * 0.1;
-                }
-                k += 1;
-                convolution.push(&velocity, &mut force).unwrap();
-                black_box(&force);
-            })
-        },
-    );
 }
 
 criterion_group!(benches, step);

@@ -3,7 +3,7 @@
 //! convolution.
 //!
 //! ```sh
-//! cargo run --release --example performance
+//! cargo run --release -p fmu-pack --example performance
 //! ```
 //!
 //! Times are wall-clock medians of repeated runs in this one process (the machine is shared:
@@ -12,14 +12,14 @@
 #[path = "performance/network.rs"]
 mod network;
 
+use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
-use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::sweep::{self, SweepParams, SweepResult};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-const COMMAND: &str = "cargo run --release --example performance";
+const COMMAND: &str = "cargo run --release -p fmu-pack --example performance";
 const REPEATS: usize = 3;
 
 fn params(panels: usize, levels: usize, threads: usize, kr: Vec<f64>) -> SweepParams {

@@ -1,18 +1,18 @@
 //! Regenerates `docs/VALIDATION.md` and its figures in `docs/figures/`:
 //!
 //! ```sh
-//! cargo run --release --example validation
+//! cargo run --release -p fmu-pack --example validation
 //! ```
 //!
 //! It compares the panel method with exact limits, published spot values and the digitized
 //! Vugts (1968) curves, reproduces the seed's Figures 3 and 4, shows the removal of irregular
 //! frequencies, and estimates the error of the default settings from a refinement study.
 
+use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::green::FreeSurface;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
-use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::sweep::{self, Solver, SweepParams, SweepResult};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-const COMMAND: &str = "cargo run --release --example validation";
+const COMMAND: &str = "cargo run --release -p fmu-pack --example validation";
 const EULER_GAMMA: f64 = 0.577_215_664_901_532_9;
 
 struct Case {

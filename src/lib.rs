@@ -18,7 +18,6 @@
 #![warn(missing_docs)]
 
 pub mod bem;
-pub mod convolution;
 pub mod discretize;
 pub mod fmi2;
 pub mod fmu;
@@ -33,7 +32,6 @@ pub mod model_description {
 pub mod network;
 pub mod numerics;
 pub mod panels;
-pub mod plot;
 pub mod realize;
 pub mod scene;
 pub mod sweep;

@@ -3,12 +3,12 @@
 //! monolithic seed eq. 19 system), the scene-reduced FMU, and the network against a direct
 //! convolution.
 
-use hydrofmu::convolution::ConvolutionForce;
+use fmu_pack::convolution::ConvolutionForce;
+use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::discretize::{discretize, expm};
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
 use hydrofmu::model::{Model, Resources};
-use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::realize::{Network, NetworkForm};
 use hydrofmu::sweep::{self, SweepParams};
 use hydrofmu::variables::Quantity;
@@ -482,7 +482,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
          dtau`, computed two ways for 9 smooth velocity signals over {} s at h = {h} s: by the \
          network (exact stepping, first-order hold) and by direct convolution with the same \
          retardation function `K(t) = C exp(A t) B` over a {history}-step history (trapezoidal \
-         rule, `hydrofmu::convolution`). Error: largest force difference from the network at \
+         rule, `fmu_pack::convolution`). Error: largest force difference from the network at \
          h/8, relative to the largest force.\n",
         steps as f64 * h
     );
@@ -496,7 +496,8 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     let _ = writeln!(
         doc,
         "At equal step, the network is as accurate or more, and {:.0} times cheaper per step \
-         (measured in this run; `cargo bench --bench step` measures both independently).\n",
+         (measured in this run; `cargo bench --bench step` and `cargo bench -p fmu-pack --bench \
+         convolution` measure both independently).\n",
         convolution_cost / full_cost
     );
 }

@@ -3,8 +3,8 @@
 use crate::pipeline::{self, Built};
 use crate::sweep_cmd;
 use clap::Args;
+use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
-use hydrofmu::plot::{self, Figure, Scale, Style};
 use hydrofmu::realize::NetworkForm;
 use hydrofmu::scene::Scene;
 use hydrofmu::sweep::SweepParams;

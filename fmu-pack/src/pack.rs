@@ -504,9 +504,11 @@ Conventions: x right, y up, free surface y = 0; force = force on the hull by the
     )
 }
 
-/// The hydrofmu shared library: `--binary`, else `HYDROFMU_BINARY`, else `libhydrofmu.so`
-/// next to this executable; when missing there and this executable lives in this
-/// workspace's target directory, it is built with cargo first.
+/// The hydrofmu shared library: `--binary`, else `HYDROFMU_BINARY`, else, for a release build
+/// of fmu-pack, the library cargo built with it (`release/deps/libhydrofmu.so`: building
+/// fmu-pack builds the library's cdylib there, only `cargo build -p hydrofmu` copies it up),
+/// else `libhydrofmu.so` next to this executable. If none is there and this executable lives
+/// in this workspace's target directory, the release library is built with cargo.
 pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     if let Some(p) = explicit {
         return existing(p, "--binary");
@@ -519,17 +521,20 @@ pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
         .parent()
         .ok_or("fmu-pack has no parent directory")?
         .to_path_buf();
+    let target_dir = exe_dir.parent().map(Path::to_path_buf);
+    let in_cargo_target = target_dir
+        .as_ref()
+        .is_some_and(|t| t.join("CACHEDIR.TAG").is_file());
+    let built_with_this = exe_dir.join("deps").join("libhydrofmu.so");
+    if in_cargo_target && exe_dir.ends_with("release") && built_with_this.is_file() {
+        return Ok(built_with_this);
+    }
     let beside = exe_dir.join("libhydrofmu.so");
     if beside.is_file() {
         return Ok(beside);
     }
     let manifest = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../Cargo.toml"));
-    let target_dir = exe_dir.parent().map(Path::to_path_buf);
-    let in_workspace_target = manifest.is_file()
-        && target_dir
-            .as_ref()
-            .is_some_and(|t| t.join("CACHEDIR.TAG").is_file());
-    if let (true, Some(target_dir)) = (in_workspace_target, target_dir) {
+    if let (true, true, Some(target_dir)) = (manifest.is_file(), in_cargo_target, target_dir) {
         eprintln!(
             "fmu-pack: {} is missing; building it: cargo build --release -p hydrofmu --lib",
             beside.display()

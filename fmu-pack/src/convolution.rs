@@ -2,7 +2,7 @@
 //! equivalent network. Used as the baseline in benchmarks and as an independent check of the
 //! network's stepping in tests; the FMU never uses it.
 //!
-//! With the network's state space (`z' = A z + B v`, `F = C z + D v`, see [`crate::realize`])
+//! With the network's state space (`z' = A z + B v`, `F = C z + D v`, see [`hydrofmu::realize`])
 //! the force excluding `-A_inf q''` is
 //!
 //! ```text
@@ -21,8 +21,8 @@
 //! Each step costs `(L + 1) n^2` multiply-adds and keeps `L + 1` past velocities; the
 //! truncation error is the tail of `K` beyond `history h`, the quadrature error O(h^2).
 
-use crate::discretize::{expm, DiscretizeError};
-use crate::realize::StateSpace;
+use hydrofmu::discretize::{expm, DiscretizeError};
+use hydrofmu::realize::StateSpace;
 use nalgebra::{DMatrix, DVector};
 
 /// The sampled retardation function and the velocity history of one convolution.
@@ -111,8 +111,8 @@ impl ConvolutionForce {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::discretize::discretize;
-    use crate::realize::{Branch, Network, NetworkForm, Stage};
+    use hydrofmu::discretize::discretize;
+    use hydrofmu::realize::{Branch, Network, NetworkForm, Stage};
 
     fn seed_state_space() -> StateSpace {
         let stage = |mass, stiffness, damping| Stage {

@@ -4,7 +4,7 @@
 //! line and marker series, and a legend; [`Figure::to_svg`] renders it as a standalone SVG
 //! document.
 
-use crate::xml::escape;
+use hydrofmu::xml::escape;
 use std::fmt::Write as _;
 
 /// Scale of an axis.

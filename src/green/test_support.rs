@@ -1,0 +1,140 @@
+//! Shared by the tests of the Green function: adaptive Gauss-Legendre quadrature (the
+//! independent reference), the test surfaces and a CPU-time measurement.
+
+use super::{FreeSurface, GreenFunction};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+pub(super) fn c(re: f64, im: f64) -> Complex64 {
+    Complex64::new(re, im)
+}
+
+/// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre recurrence).
+fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut dp = 1.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let kf = k as f64;
+                    let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-16 {
+                    break;
+                }
+            }
+            (x, 2.0 / ((1.0 - x * x) * dp * dp))
+        })
+        .collect()
+}
+
+/// Adaptive Gauss-Legendre (10 vs 20 points, bisection): the independent reference.
+pub(super) struct Quadrature {
+    low: Vec<(f64, f64)>,
+    high: Vec<(f64, f64)>,
+}
+
+impl Quadrature {
+    pub(super) fn new() -> Self {
+        Self {
+            low: gauss_legendre(10),
+            high: gauss_legendre(20),
+        }
+    }
+
+    fn rule<const N: usize>(
+        rule: &[(f64, f64)],
+        f: &dyn Fn(f64) -> [Complex64; N],
+        a: f64,
+        b: f64,
+    ) -> [Complex64; N] {
+        let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
+        let mut acc = [c(0.0, 0.0); N];
+        for &(x, w) in rule {
+            let v = f(m + h * x);
+            for i in 0..N {
+                acc[i] += v[i] * (w * h);
+            }
+        }
+        acc
+    }
+
+    /// Integral over [a, b] with an absolute error target `tol` per bisection leaf.
+    pub(super) fn integrate<const N: usize>(
+        &self,
+        f: &dyn Fn(f64) -> [Complex64; N],
+        a: f64,
+        b: f64,
+        tol: f64,
+    ) -> [Complex64; N] {
+        self.adapt(f, a, b, tol, 0)
+    }
+
+    fn adapt<const N: usize>(
+        &self,
+        f: &dyn Fn(f64) -> [Complex64; N],
+        a: f64,
+        b: f64,
+        tol: f64,
+        depth: usize,
+    ) -> [Complex64; N] {
+        let lo = Self::rule(&self.low, f, a, b);
+        let hi = Self::rule(&self.high, f, a, b);
+        let err = (0..N).map(|i| (hi[i] - lo[i]).norm()).fold(0.0, f64::max);
+        if err <= tol || depth >= 60 {
+            return hi;
+        }
+        let m = 0.5 * (a + b);
+        let l = self.adapt(f, a, m, tol, depth + 1);
+        let r = self.adapt(f, m, b, tol, depth + 1);
+        let mut out = l;
+        for i in 0..N {
+            out[i] += r[i];
+        }
+        out
+    }
+}
+
+pub(super) fn wave(k: f64) -> GreenFunction {
+    GreenFunction::new(FreeSurface::Wave { wavenumber: k }).unwrap()
+}
+
+pub(super) fn all_surfaces() -> Vec<GreenFunction> {
+    vec![
+        GreenFunction::new(FreeSurface::RigidLid).unwrap(),
+        GreenFunction::new(FreeSurface::Dirichlet).unwrap(),
+        wave(0.05),
+        wave(1.0),
+        wave(7.0),
+    ]
+}
+
+/// On-CPU time of this thread in ns (Linux schedstat), else wall time since `origin`, so
+/// that timings are not inflated by other processes on a shared machine.
+fn cpu_ns(origin: &std::time::Instant) -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse().ok()))
+        .unwrap_or_else(|| origin.elapsed().as_nanos() as f64)
+}
+
+/// CPU ns per call of `work` (which makes `calls` calls), repeated for at least `min_ns`.
+pub(super) fn measure(calls: usize, min_ns: f64, mut work: impl FnMut() -> Complex64) -> f64 {
+    let origin = std::time::Instant::now();
+    let mut acc = c(0.0, 0.0);
+    let start = cpu_ns(&origin);
+    let mut reps = 0;
+    while reps == 0 || cpu_ns(&origin) - start < min_ns {
+        acc += work();
+        reps += 1;
+    }
+    std::hint::black_box(acc);
+    (cpu_ns(&origin) - start) / (reps * calls) as f64
+}

@@ -1,0 +1,364 @@
+//! Tests of the point Green function (seed eq. 11, gradient, harmonicity, free-surface
+//! conditions, radiation, reciprocity, frequency limits) and timings.
+
+use super::exp_integral::EULER_GAMMA;
+use super::test_support::{all_surfaces, c, measure, wave};
+use super::*;
+
+/// Field/source pairs in the fluid, including x = x0, points on y = 0 and far pairs.
+fn point_pairs() -> Vec<(Point, Point)> {
+    vec![
+        ([0.3, -0.4], [-0.2, -1.1]),
+        ([0.0, -0.5], [0.0, -1.5]),
+        ([1e-7, -0.5], [0.0, -1.5]),
+        ([2.0, 0.0], [0.5, -0.3]),
+        ([0.5, -0.3], [2.0, 0.0]),
+        ([0.1, -0.02], [-0.1, -0.01]),
+        ([-3.0, -2.0], [4.0, -0.5]),
+        ([0.7, -4.0], [0.65, -3.5]),
+        ([12.0, -0.2], [-9.0, -0.7]),
+    ]
+}
+
+#[test]
+fn new_validates_wavenumber() {
+    for k in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let err = GreenFunction::new(FreeSurface::Wave { wavenumber: k }).unwrap_err();
+        assert!(err.to_string().contains("wavenumber"));
+    }
+    let g = wave(2.0);
+    assert_eq!(g.surface(), FreeSurface::Wave { wavenumber: 2.0 });
+}
+
+/// Seed eq. 11 literally, with F = e^z E1(z) from `scaled_exp_integral`.
+fn seed_eq_11(k: f64, x: Point, x0: Point) -> Complex64 {
+    let r0 = (x[0] - x0[0]).hypot(x[1] - x0[1]);
+    let r1 = (x[0] - x0[0]).hypot(x[1] + x0[1]);
+    // Im z = -|x - x0| (-0.0 directly below: the lower side of the cut).
+    let z = c(x[1] + x0[1], -(x[0] - x0[0]).abs());
+    (r0 / r1).ln() / (2.0 * PI) - scaled_exp_integral(k * z).re / PI
+        + Complex64::new(0.0, 1.0) * (k * z).exp()
+}
+
+#[test]
+fn value_equals_seed_equation_11() {
+    for k in [0.05, 1.0, 7.0, 60.0] {
+        let g = wave(k);
+        for (x, x0) in point_pairs() {
+            let (val, _) = g.value_and_gradient(x, x0);
+            let seed = seed_eq_11(k, x, x0);
+            assert!(
+                (val - seed).norm() <= 1e-14 * (1.0 + seed.norm()),
+                "k = {k}, x = {x:?}, x0 = {x0:?}: {val} vs {seed}"
+            );
+        }
+    }
+}
+
+#[test]
+fn kinks_of_the_wave_terms_cancel() {
+    // d/dx of -(1/pi) Re{e^{kz}E1(kz)} jumps at x = x0 (slope -k e^{kY} just right of x0),
+    // e^{kY} sin(k|x-x0|) has the opposite kink; G itself is smooth: dG/dx -> 0.
+    let (k, x0, y, y0) = (1.3, [0.2, -0.7], -0.4, -0.7);
+    let big_y = y + y0;
+    let g = wave(k);
+    let e1_term = |dx: f64| -scaled_exp_integral(k * c(big_y, -dx.abs())).re / PI;
+    let h = 1e-6;
+    let slope_e1 = (e1_term(2.0 * h) - e1_term(h)) / h;
+    let expected = -k * (k * big_y).exp();
+    assert!(
+        (slope_e1 - expected).abs() < 1e-5,
+        "{slope_e1} vs {expected}"
+    );
+    for eps in [1e-9, 1e-6] {
+        let (_, grad) = g.value_and_gradient([x0[0] + eps, y], x0);
+        let (_, grad_left) = g.value_and_gradient([x0[0] - eps, y], x0);
+        // dG/dx is odd and O(eps) (second derivative is O(1)).
+        assert!(grad[0].norm() < 10.0 * eps, "eps {eps}: {}", grad[0]);
+        assert!((grad[0] + grad_left[0]).norm() < 1e-14);
+    }
+    // One-sided finite differences of the literal seed formula agree.
+    let seed = |dx: f64| seed_eq_11(k, [x0[0] + dx, y], x0);
+    let one_sided = (seed(2.0 * h) - seed(h)) / h;
+    assert!(one_sided.norm() < 1e-4, "{one_sided}");
+}
+
+fn assert_gradient_matches_fd(g: &GreenFunction, x: Point, x0: Point) {
+    let (val, grad) = g.value_and_gradient(x, x0);
+    let r = (x[0] - x0[0]).hypot(x[1] - x0[1]);
+    let h = 1e-3 * r.min(1.0);
+    let f = |dx: f64, dy: f64| g.value_and_gradient([x[0] + dx, x[1] + dy], x0).0;
+    // 4th-order central differences; stay below y = 0 by using one-sided-free offsets only
+    // when the point is in the fluid interior.
+    let fd = |e: [f64; 2]| {
+        (f(-2.0 * h * e[0], -2.0 * h * e[1]) - 8.0 * f(-h * e[0], -h * e[1])
+            + 8.0 * f(h * e[0], h * e[1])
+            - f(2.0 * h * e[0], 2.0 * h * e[1]))
+            / (12.0 * h)
+    };
+    let scale = grad[0].norm() + grad[1].norm() + val.norm() / r;
+    for (i, e) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
+        let d = fd(e);
+        assert!(
+            (d - grad[i]).norm() <= 1e-8 * scale,
+            "{:?} x = {x:?} x0 = {x0:?} component {i}: {} vs fd {d}",
+            g.surface(),
+            grad[i]
+        );
+    }
+}
+
+#[test]
+fn gradient_matches_finite_differences() {
+    for g in all_surfaces() {
+        for (x, x0) in point_pairs() {
+            if x[1] < -0.05 {
+                assert_gradient_matches_fd(&g, x, x0);
+            }
+        }
+        // A denser sweep of directions and distances around one source.
+        let x0 = [0.1, -0.8];
+        for i in 0..24 {
+            let t = 2.0 * PI * i as f64 / 24.0;
+            for r in [0.05, 0.4, 0.75] {
+                let x = [x0[0] + r * t.cos(), x0[1] + r * t.sin()];
+                assert_gradient_matches_fd(&g, x, x0);
+            }
+        }
+    }
+}
+
+#[test]
+fn harmonic_mean_value_and_laplacian() {
+    for g in all_surfaces() {
+        let x0: Point = [0.2, -0.6];
+        for centre in [[0.9f64, -0.7], [0.2, -1.3], [-0.5, -0.45], [3.0, -2.0]] {
+            let d_src = (centre[0] - x0[0]).hypot(centre[1] - x0[1]);
+            let rad = 0.4 * d_src.min(-centre[1]);
+            let n = 96;
+            let mut mean = c(0.0, 0.0);
+            for j in 0..n {
+                let t = 2.0 * PI * j as f64 / n as f64;
+                let x = [centre[0] + rad * t.cos(), centre[1] + rad * t.sin()];
+                mean += g.value_and_gradient(x, x0).0;
+            }
+            mean /= n as f64;
+            let at_centre = g.value_and_gradient(centre, x0).0;
+            assert!(
+                (mean - at_centre).norm() <= 1e-13 * (1.0 + at_centre.norm()),
+                "{:?} at {centre:?}: mean {mean} vs {at_centre}",
+                g.surface()
+            );
+            // 5-point Laplacian: O(h^2) truncation, h = 1e-3 rad.
+            let h = 1e-2 * rad;
+            let f = |dx: f64, dy: f64| g.value_and_gradient([centre[0] + dx, centre[1] + dy], x0).0;
+            let lap =
+                (f(h, 0.0) + f(-h, 0.0) + f(0.0, h) + f(0.0, -h) - 4.0 * f(0.0, 0.0)) / (h * h);
+            let curvature = (f(h, 0.0) - 2.0 * f(0.0, 0.0) + f(-h, 0.0)).norm() / (h * h);
+            assert!(
+                lap.norm() <= 1e-4 * (curvature + 1.0),
+                "{:?} Laplacian {lap}",
+                g.surface()
+            );
+        }
+    }
+}
+
+#[test]
+fn free_surface_conditions() {
+    let sources = [[0.0, -0.3], [1.0, -2.0], [-0.4, -0.05], [0.3, 0.0]];
+    for k in [0.05, 1.0, 7.0] {
+        let g = wave(k);
+        for x0 in sources {
+            for x in [-2.0, -0.1, 0.0, 0.25, 1.7, 30.0] {
+                if x == x0[0] && x0[1] == 0.0 {
+                    continue;
+                }
+                let (val, grad) = g.value_and_gradient([x, 0.0], x0);
+                // dG/dy = k G on y = 0 (analytic gradient).
+                assert!(
+                    (grad[1] - k * val).norm() <= 1e-13 * (grad[1].norm() + k * val.norm()),
+                    "k {k} x0 {x0:?} x {x}: {} vs {}",
+                    grad[1],
+                    k * val
+                );
+                // One-sided 4th-order finite difference from below.
+                let h = 1e-3 * (1.0 / k).min(0.5);
+                let f = |j: f64| g.value_and_gradient([x, -j * h], x0).0;
+                let dy = (25.0 * f(0.0) - 48.0 * f(1.0) + 36.0 * f(2.0) - 16.0 * f(3.0)
+                    + 3.0 * f(4.0))
+                    / (12.0 * h);
+                assert!(
+                    (dy - k * val).norm() <= 1e-7 * (1.0 + val.norm()) * k.max(1.0),
+                    "FD k {k} x0 {x0:?} x {x}: {dy} vs {}",
+                    k * val
+                );
+            }
+        }
+    }
+    let rigid = GreenFunction::new(FreeSurface::RigidLid).unwrap();
+    let dirichlet = GreenFunction::new(FreeSurface::Dirichlet).unwrap();
+    for x0 in sources.iter().take(3) {
+        for x in [-2.0, 0.0, 0.25] {
+            let (_, grad) = rigid.value_and_gradient([x, 0.0], *x0);
+            assert!(grad[1].norm() < 1e-15);
+            let (val, _) = dirichlet.value_and_gradient([x, 0.0], *x0);
+            assert!(val.norm() < 1e-15);
+        }
+    }
+}
+
+#[test]
+fn outgoing_waves_far_away() {
+    // G - i e^{kz} = (1/2pi) ln(r0/r1) - (1/pi) Re F(kz) = O(1/(k |x - x0|)).
+    let k = 1.5;
+    let g = wave(k);
+    let x0 = [0.0, -0.5];
+    for dx in [1e2, 1e3, -1e4] {
+        let x = [dx, -0.2];
+        let (val, _) = g.value_and_gradient(x, x0);
+        let z = c(x[1] + x0[1], -dx.abs());
+        let wave_part = Complex64::new(0.0, 1.0) * (k * z).exp();
+        assert!((val - wave_part).norm() <= 1.1 / (PI * k * dx.abs()));
+        assert!(val.norm() > 0.5 * (k * (x[1] + x0[1])).exp());
+    }
+}
+
+#[test]
+fn reciprocity() {
+    for g in all_surfaces() {
+        for (x, x0) in point_pairs() {
+            let a = g.value_and_gradient(x, x0).0;
+            let b = g.value_and_gradient(x0, x).0;
+            assert!((a - b).norm() <= 1e-14 * (1.0 + a.norm()));
+        }
+    }
+}
+
+#[test]
+fn low_frequency_limit_is_rigid_lid_plus_constant() {
+    // G_wave = G_rigid + (1/pi)(ln k + gamma) + i + O(k r1 ln(k r1)).
+    let rigid = GreenFunction::new(FreeSurface::RigidLid).unwrap();
+    for k in [1e-4, 1e-6, 1e-9] {
+        let g = wave(k);
+        let constant = c((k.ln() + EULER_GAMMA) / PI, 1.0);
+        for (x, x0) in point_pairs() {
+            let r1 = (x[0] - x0[0]).hypot(x[1] + x0[1]);
+            let bound = 2.0 * k * r1 * (1.0 + (k * r1).ln().abs());
+            let (gw, dw) = g.value_and_gradient(x, x0);
+            let (gr, dr) = rigid.value_and_gradient(x, x0);
+            assert!((gw - constant - gr).norm() <= bound, "k {k}: {gw} {gr}");
+            for i in 0..2 {
+                assert!((dw[i] - dr[i]).norm() <= 2.0 * k * (2.0 + (k * r1).ln().abs()));
+            }
+        }
+    }
+}
+
+#[test]
+fn high_frequency_limit_is_dirichlet() {
+    // G_wave - G_dirichlet = (1/pi) Re Q(p) + i Re e^{-p}, Q ~ 1/p: O(1/(k r1)).
+    let dirichlet = GreenFunction::new(FreeSurface::Dirichlet).unwrap();
+    for k in [1e4, 1e6, 1e9] {
+        let g = wave(k);
+        for (x, x0) in point_pairs() {
+            if x[1] + x0[1] > -0.05 {
+                continue;
+            }
+            let r1 = (x[0] - x0[0]).hypot(x[1] + x0[1]);
+            let (gw, dw) = g.value_and_gradient(x, x0);
+            let (gd, dd) = dirichlet.value_and_gradient(x, x0);
+            assert!((gw - gd).norm() <= 1.01 / (PI * k * r1), "k {k}: {gw} {gd}");
+            for i in 0..2 {
+                assert!((dw[i] - dd[i]).norm() <= 1.01 / (PI * k * r1 * r1));
+            }
+        }
+    }
+}
+
+#[test]
+fn singular_points_give_non_finite_values_without_panic() {
+    let (v, _) = wave(1.0).value_and_gradient([0.3, -0.2], [0.3, -0.2]);
+    assert!(!v.re.is_finite());
+    let (v, _) = wave(1.0).value_and_gradient([0.3, 0.0], [0.3, 0.0]);
+    assert!(!v.re.is_finite());
+}
+
+/// Semicircle of radius 1, `n` panels, body on the left of a->b.
+fn semicircle(n: usize) -> Vec<Point> {
+    (0..=n)
+        .map(|i| {
+            let t = PI * i as f64 / n as f64;
+            [-t.cos(), -t.sin()]
+        })
+        .collect()
+}
+
+#[test]
+#[ignore = "timing: cargo test --release -- --ignored --nocapture --test-threads=1 timing"]
+fn timing() {
+    let n = 100;
+    let nodes = semicircle(n);
+    let centres: Vec<Point> = nodes
+        .windows(2)
+        .map(|w| [0.5 * (w[0][0] + w[1][0]), 0.5 * (w[0][1] + w[1][1])])
+        .collect();
+    let ks: Vec<f64> = (0..20)
+        .map(|j| 0.05 * 200f64.powf(j as f64 / 19.0))
+        .collect();
+    // e^z E1(z) at the kz of all centre pairs, kR in [0.05, 10].
+    let mut args = Vec::new();
+    for &k in &ks {
+        for x in &centres {
+            for x0 in &centres {
+                args.push(c(k * (x[1] + x0[1]), -k * (x[0] - x0[0]).abs()));
+            }
+        }
+    }
+    let t = measure(args.len(), 2e8, || {
+        args.iter().map(|&z| scaled_exp_integral(z)).sum()
+    });
+    println!("scaled_exp_integral: {t:.0} ns/call");
+    let greens: Vec<GreenFunction> = ks.iter().map(|&k| wave(k)).collect();
+    let t = measure(1, 2e8, || c(wave(1.0).table.inner[5].re, 0.0));
+    println!(
+        "GreenFunction::new (Wave, builds the table): {:.0} us",
+        t * 1e-3
+    );
+    let table = &greens[0].table;
+    let t = measure(args.len(), 2e8, || {
+        args.iter().map(|&z| table.q_and_exp(-z).0).sum()
+    });
+    println!("tabulated Q and e^-p: {t:.0} ns/call");
+    let sweep = |g: &GreenFunction, f: fn(&GreenFunction, Point, Point, Point) -> PanelIntegral| {
+        let mut acc = c(0.0, 0.0);
+        for x in &centres {
+            for w in nodes.windows(2) {
+                acc += f(g, *x, w[0], w[1]).gradient[1];
+            }
+        }
+        acc
+    };
+    let rigid = GreenFunction::new(FreeSurface::RigidLid).unwrap();
+    let t = measure(n * n, 2e8, || sweep(&rigid, GreenFunction::panel_integral));
+    println!("panel_integral (rigid lid): {t:.0} ns/call");
+    let t = measure(ks.len() * n * n, 2e8, || {
+        greens
+            .iter()
+            .map(|g| sweep(g, GreenFunction::panel_integral))
+            .sum()
+    });
+    println!("panel_integral (wave, {n}-panel semicircle, kR 0.05..10): {t:.0} ns/call");
+    let t = measure(ks.len() * n * n, 2e8, || {
+        greens
+            .iter()
+            .map(|g| sweep(g, GreenFunction::panel_integral_beyond_dirichlet))
+            .sum()
+    });
+    println!("panel_integral_beyond_dirichlet (wave): {t:.0} ns/call");
+    println!(
+        "-> 200 frequencies x N^2 wave parts on one core: N = 100: {:.2} s, N = 300: {:.2} s",
+        t * 200.0 * 1e4 * 1e-9,
+        t * 200.0 * 9e4 * 1e-9
+    );
+}
