@@ -172,25 +172,4 @@ mod tests {
         }
         assert!(worst > 0.0);
     }
-
-    #[test]
-    #[ignore = "timing by region: cargo test --release -- --ignored --nocapture timing_regions"]
-    fn timing_regions() {
-        let table = QTable::new();
-        println!("ns per call, direct / tabulated; columns arg p = 0, 20, 45, 70, 90 deg");
-        for rho in [0.1, 0.4, 0.7, 1.5, 3.0, 6.0, 12.0, 25.0, 39.0, 60.0] {
-            let mut line = format!("|p| = {rho:5.1}:");
-            for deg in [0.0f64, 20.0, 45.0, 70.0, 90.0] {
-                let ps: Vec<Complex64> = (0..1000)
-                    .map(|i| Complex64::from_polar(rho * (1.0 + 1e-5 * i as f64), deg.to_radians()))
-                    .collect();
-                let direct = measure(ps.len(), 3e7, || ps.iter().map(|&p| scaled_ei(p).q).sum());
-                let tab = measure(ps.len(), 3e7, || {
-                    ps.iter().map(|&p| table.q_and_exp(p).0).sum()
-                });
-                line += &format!(" {direct:4.0}/{tab:3.0}");
-            }
-            println!("{line}");
-        }
-    }
 }
