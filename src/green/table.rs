@@ -148,7 +148,6 @@ fn inner_node(j: usize, i: usize) -> (Complex64, Complex64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::green::test_support::measure;
     use std::f64::consts::PI;
 
     #[test]

@@ -115,26 +115,3 @@ pub(super) fn all_surfaces() -> Vec<GreenFunction> {
         wave(7.0),
     ]
 }
-
-/// On-CPU time of this thread in ns (Linux schedstat), else wall time since `origin`, so
-/// that timings are not inflated by other processes on a shared machine.
-fn cpu_ns(origin: &std::time::Instant) -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse().ok()))
-        .unwrap_or_else(|| origin.elapsed().as_nanos() as f64)
-}
-
-/// CPU ns per call of `work` (which makes `calls` calls), repeated for at least `min_ns`.
-pub(super) fn measure(calls: usize, min_ns: f64, mut work: impl FnMut() -> Complex64) -> f64 {
-    let origin = std::time::Instant::now();
-    let mut acc = c(0.0, 0.0);
-    let start = cpu_ns(&origin);
-    let mut reps = 0;
-    while reps == 0 || cpu_ns(&origin) - start < min_ns {
-        acc += work();
-        reps += 1;
-    }
-    std::hint::black_box(acc);
-    (cpu_ns(&origin) - start) / (reps * calls) as f64
-}

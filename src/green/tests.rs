@@ -2,7 +2,7 @@
 //! conditions, radiation, reciprocity, frequency limits) and timings.
 
 use super::exp_integral::EULER_GAMMA;
-use super::test_support::{all_surfaces, c, measure, wave};
+use super::test_support::{all_surfaces, c, wave};
 use super::*;
 
 /// Field/source pairs in the fluid, including x = x0, points on y = 0 and far pairs.
@@ -282,14 +282,4 @@ fn singular_points_give_non_finite_values_without_panic() {
     assert!(!v.re.is_finite());
     let (v, _) = wave(1.0).value_and_gradient([0.3, 0.0], [0.3, 0.0]);
     assert!(!v.re.is_finite());
-}
-
-/// Semicircle of radius 1, `n` panels, body on the left of a->b.
-fn semicircle(n: usize) -> Vec<Point> {
-    (0..=n)
-        .map(|i| {
-            let t = PI * i as f64 / n as f64;
-            [-t.cos(), -t.sin()]
-        })
-        .collect()
 }
