@@ -4,7 +4,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fmu_pack::convolution::ConvolutionForce;
-use hydrofmu::realize::Network;
+use hydrofmu::network::Network;
 use nalgebra::DVector;
 
 /// The network `fmu-pack` fits for the built-in semicircle with default settings

@@ -9,7 +9,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FrequencyResponse};
-use hydrofmu::realize::NetworkForm;
+use hydrofmu::network::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams};
 use hydrofmu::units;
 use std::hint::black_box;
@@ -19,13 +19,8 @@ fn semicircle() -> FrequencyResponse {
         kr: sweep::log_grid(0.01, 4.5, 120).expect("grid"),
         ..SweepParams::default()
     };
-    let result = sweep::run(
-        &Hull::semicircle(1.0).expect("hull"),
-        Some(0.0),
-        &params,
-        &|_, _| {},
-    )
-    .expect("sweep");
+    let result =
+        sweep::run(&Hull::semicircle(1.0).expect("hull"), &params, &|_, _| {}).expect("sweep");
     FrequencyResponse::from_sweep(&result, DEFAULT_RHO, DEFAULT_G)
 }
 

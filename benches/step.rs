@@ -4,9 +4,9 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use hydrofmu::fmi2::*;
+use hydrofmu::fmu::description::FIRST_PER_HULL_REFERENCE;
 use hydrofmu::model::Resources;
-use hydrofmu::model_description::FIRST_PER_HULL_REFERENCE;
-use hydrofmu::realize::Network;
+use hydrofmu::network::Network;
 use std::ffi::{c_void, CString};
 
 /// The network `fmu-pack` fits for the built-in semicircle with default settings

@@ -38,7 +38,7 @@ fn full_sweep(c: &mut Criterion) {
             ..SweepParams::default()
         };
         group.bench_function(format!("{threads} threads"), |b| {
-            b.iter(|| sweep::run(black_box(&hull), Some(0.0), &params, &|_, _| {}).unwrap())
+            b.iter(|| sweep::run(black_box(&hull), &params, &|_, _| {}).unwrap())
         });
     }
     group.finish();

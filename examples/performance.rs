@@ -46,7 +46,7 @@ fn timed(hull: &Hull, params: &SweepParams) -> (f64, SweepResult) {
     let mut last = None;
     for _ in 0..repeats {
         let start = Instant::now();
-        let result = sweep::run(hull, Some(0.0), params, &|_, _| {}).expect("sweep");
+        let result = sweep::run(hull, params, &|_, _| {}).expect("sweep");
         times.push(start.elapsed().as_secs_f64());
         last = Some(result);
     }
@@ -94,7 +94,6 @@ fn main() {
     let reference_grid = sweep::log_grid(0.01, 10.0, 41).expect("grid");
     let reference = sweep::run(
         &hull,
-        Some(0.0),
         &params(2048, 3, threads, reference_grid.clone()),
         &|_, _| {},
     )
@@ -125,7 +124,6 @@ fn main() {
             let (time, result) = timed(&hull, &params(n, levels, threads, grid.clone()));
             let accuracy = sweep::run(
                 &hull,
-                Some(0.0),
                 &params(n, levels, threads, reference_grid.clone()),
                 &|_, _| {},
             )

@@ -66,7 +66,7 @@ fn run_sweep(
         extrapolation_levels: levels,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    sweep::run(&case.hull, Some(case.depth), &params, &|_, _| {}).expect("sweep")
+    sweep::run(&case.hull, &params, &|_, _| {}).expect("sweep")
 }
 
 fn dof(result: &SweepResult, name: &str) -> usize {
@@ -583,7 +583,7 @@ fn main() {
 /// Seed section 4 and 5: the 2-DOF chain, our fits, and the seed's Figure 7.
 fn identification(doc: &mut String, semi: &SweepResult) {
     use hydrofmu::identify::{self, FitParams, FrequencyResponse};
-    use hydrofmu::realize::Network;
+    use hydrofmu::network::Network;
     eprintln!("identification ...");
     let _ = writeln!(
         doc,
@@ -641,7 +641,7 @@ fn identification(doc: &mut String, semi: &SweepResult) {
     let mut two_dof_ratio = f64::NAN;
     for order in 1..=3 {
         let params = FitParams {
-            form: Some(hydrofmu::realize::NetworkForm::SeriesChain),
+            form: Some(hydrofmu::network::NetworkForm::SeriesChain),
             band,
             order: Some(order),
             ..FitParams::default()

@@ -7,8 +7,24 @@
 //! The data flow runs one way, one module per stage:
 //!
 //! ```text
-//! hull -> panels -> green -> bem -> sweep -> identify -> realize -> discretize -> model -> fmi2
+//! hull -> panels -> green -> bem -> sweep -> identify -> network -> realize -> discretize -> model
 //! ```
+//!
+//! - [`hull`]: the section contour and its DOFs ([`Hull`]);
+//! - [`panels`]: the body and lid panels ([`PanelParams`]);
+//! - [`green`]: the free-surface Green function;
+//! - [`bem`]: the radiation problem at one frequency;
+//! - [`sweep`]: added mass and damping over a frequency grid ([`SweepParams`], [`SweepResult`]);
+//! - [`identify`]: fits a passive network to the response ([`FrequencyResponse`],
+//!   [`FitParams`], [`FitReport`]);
+//! - [`network`]: the mass-spring-damper network and its file format ([`Network`]);
+//! - [`realize`]: its matrices and first-order state space ([`StateSpace`]);
+//! - [`discretize`]: the exact zero-order-hold step;
+//! - [`model`]: the component that steps in time ([`Model`], [`ModelOptions`]).
+//!
+//! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
+//! [`SceneReport`]). [`fmu`] (variables, model description, resources, GUID) and [`fmi2`] (the
+//! exported C functions) make the FMU. [`units`] and [`xml`] support every stage.
 //!
 //! Conventions (every module): 2D, per unit length of hull, SI units; x to the right, y up,
 //! mean free surface y = 0, fluid in y < 0, infinite depth; time factor `exp(+i omega t)`;
@@ -25,10 +41,6 @@ pub mod green;
 pub mod hull;
 pub mod identify;
 pub mod model;
-/// The fixed part of the FMU interface (now [`fmu::description`]; this path is kept).
-pub mod model_description {
-    pub use crate::fmu::description::*;
-}
 pub mod network;
 pub mod numerics;
 pub mod panels;
@@ -36,11 +48,18 @@ pub mod realize;
 pub mod scene;
 pub mod sweep;
 pub mod units;
-/// The per-hull FMU variables, units and GUID (now in [`fmu`]; this path is kept).
-pub mod variables {
-    pub use crate::fmu::description::DescriptionInfo;
-    pub use crate::fmu::guid::{content_guid, sha256};
-    pub use crate::fmu::units::DofUnit;
-    pub use crate::fmu::variables::*;
-}
 pub mod xml;
+
+pub use bem::BemError;
+pub use discretize::DiscretizeError;
+pub use fmu::{Resources, ResourcesError, VariablesError};
+pub use green::GreenError;
+pub use hull::{Hull, HullError};
+pub use identify::{FitParams, FitReport, FrequencyResponse, IdentifyError};
+pub use model::{Model, ModelError, ModelOptions};
+pub use network::{Branch, Network, NetworkError, NetworkForm, Stage};
+pub use panels::{PanelError, PanelParams};
+pub use realize::StateSpace;
+pub use scene::{Band, Scene, SceneError, SceneReport};
+pub use sweep::{SweepError, SweepParams, SweepResult};
+pub use xml::XmlError;

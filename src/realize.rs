@@ -39,9 +39,7 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-pub use crate::network::{
-    Branch, Network, NetworkError, NetworkForm, Stage, NETWORK_FORMAT_VERSION,
-};
+use crate::network::{Network, NetworkError, Stage};
 
 /// Augmented mass, damping and stiffness matrices (seed eq. 19 layout, hull DOFs first).
 #[derive(Clone, Debug, PartialEq)]

@@ -311,7 +311,8 @@ pub struct SweepResult {
     pub panel_counts: (usize, usize),
 }
 
-/// Runs a sweep of `hull`. `progress(done, total)` is called after each frequency.
+/// Runs a sweep of `hull`. `progress(done, total)` is called after each frequency. The
+/// table's `H/R` is the hull's own ([`Hull::circle_depth_ratio`]).
 ///
 /// # Errors
 /// Invalid parameters (bad grid, too few panels, no threads), or a failure of either frequency
@@ -319,7 +320,6 @@ pub struct SweepResult {
 /// not errors: see [`SweepResult::failures`].
 pub fn run(
     hull: &Hull,
-    depth_over_radius: Option<f64>,
     params: &SweepParams,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepResult, SweepError> {
@@ -370,7 +370,7 @@ pub fn run(
 
     let mut result = SweepResult {
         hull_name: hull.name().to_string(),
-        depth_over_radius,
+        depth_over_radius: hull.circle_depth_ratio(),
         dof_names: mesh.dof_names.clone(),
         reference_half_beam: radius,
         kr: Vec::with_capacity(total),

@@ -38,6 +38,7 @@ pub const MAX_ATTRIBUTES: usize = 256;
 
 /// Why a document could not be read: the 1-based line and the problem.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct XmlError {
     /// 1-based line of the problem.
     pub line: usize,

@@ -4,7 +4,7 @@
 
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FrequencyResponse};
-use hydrofmu::realize::NetworkForm;
+use hydrofmu::network::NetworkForm;
 use hydrofmu::sweep::{self, SweepParams};
 use hydrofmu::units;
 use std::f64::consts::PI;
@@ -15,13 +15,7 @@ const G: f64 = 9.81;
 
 /// A sweep of the built-in semicircle (R = 1 m).
 fn semicircle_sweep(params: &SweepParams) -> sweep::SweepResult {
-    sweep::run(
-        &Hull::semicircle(1.0).unwrap(),
-        Some(0.0),
-        params,
-        &|_, _| {},
-    )
-    .unwrap()
+    sweep::run(&Hull::semicircle(1.0).unwrap(), params, &|_, _| {}).unwrap()
 }
 
 fn semicircle() -> &'static FrequencyResponse {
@@ -114,7 +108,7 @@ fn semicircle_full_coupled_network_is_within_one_percent_per_entry() {
 }
 
 /// Every pole of the network's state space is in the closed left half plane.
-fn assert_stable(network: &hydrofmu::realize::Network) {
+fn assert_stable(network: &hydrofmu::network::Network) {
     let ss = network.state_space().unwrap();
     let eigen = ss.a.clone().complex_eigenvalues();
     assert!(eigen.iter().all(|l| l.re <= 1e-9), "unstable pole");
@@ -153,7 +147,7 @@ fn submerged_circle_with_negative_added_mass_fits_within_tolerance() {
         panels: hydrofmu::panels::PanelParams::for_hull(&hull),
         ..SweepParams::default()
     };
-    let result = sweep::run(&hull, Some(1.1), &params, &|_, _| {}).unwrap();
+    let result = sweep::run(&hull, &params, &|_, _| {}).unwrap();
     let data = FrequencyResponse::from_sweep(&result, RHO, G)
         .select(&["sway"])
         .unwrap();

@@ -6,12 +6,12 @@
 use fmu_pack::convolution::ConvolutionForce;
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::discretize::{discretize, expm};
+use hydrofmu::fmu::Quantity;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
 use hydrofmu::model::{Model, Resources};
-use hydrofmu::realize::{Network, NetworkForm};
+use hydrofmu::network::{Network, NetworkForm};
 use hydrofmu::sweep::{self, SweepParams};
-use hydrofmu::variables::Quantity;
 use nalgebra::{DMatrix, DVector};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -191,7 +191,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
         threads,
         ..SweepParams::default()
     };
-    let result = sweep::run(&hull, Some(0.0), &params, &|_, _| {}).expect("sweep");
+    let result = sweep::run(&hull, &params, &|_, _| {}).expect("sweep");
     let all = FrequencyResponse::from_sweep(&result, RHO, G);
     let sway = all.select(&["sway"]).expect("sway");
     let band = default_band();

@@ -112,7 +112,7 @@ impl ConvolutionForce {
 mod tests {
     use super::*;
     use hydrofmu::discretize::discretize;
-    use hydrofmu::realize::{Branch, Network, NetworkForm, Stage};
+    use hydrofmu::network::{Branch, Network, NetworkForm, Stage};
 
     fn seed_state_space() -> StateSpace {
         let stage = |mass, stiffness, damping| Stage {

@@ -5,7 +5,7 @@ use crate::sweep_cmd;
 use clap::Args;
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
-use hydrofmu::realize::NetworkForm;
+use hydrofmu::network::NetworkForm;
 use hydrofmu::scene::Scene;
 use hydrofmu::sweep::SweepParams;
 use hydrofmu::units;

@@ -7,11 +7,11 @@
 //! rescales it exactly to the `rho` and `g` a master sets (see [`hydrofmu::scene`]).
 
 use crate::progress::Progress;
+use hydrofmu::fmu::DofUnit;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::FitReport;
 use hydrofmu::scene::{Band, BuiltScene, Scene, SceneError, SceneFit, SceneReport, SceneResponse};
 use hydrofmu::sweep::SweepResult;
-use hydrofmu::variables::DofUnit;
 use std::time::{Duration, Instant};
 
 /// Parses a band as `--band` gives it: `MIN:MAX` (kR) or `MIN:MAXrad/s` (rad/s).

@@ -18,9 +18,9 @@ use super::types::{
     fmi2Terminated, fmi2Type, fmi2ValueReference, Status,
 };
 use super::uri::resource_path;
+use crate::fmu::description::MAX_OUTPUT_DERIVATIVE_ORDER;
+use crate::fmu::{DofUnit, Layout, Quantity};
 use crate::model::{Model, ModelState, Resources};
-use crate::model_description::MAX_OUTPUT_DERIVATIVE_ORDER;
-use crate::variables::{DofUnit, Layout, Quantity};
 use std::ffi::{CStr, CString};
 
 /// One FMU instance (behind an `fmi2Component`).

@@ -6,7 +6,7 @@
 //! borrowed (so a logger that calls back into the FMU finds it in a consistent state).
 
 use super::types::Status;
-use crate::model_description::LOG_CATEGORIES;
+use crate::fmu::description::LOG_CATEGORIES;
 
 /// A log category declared in `modelDescription/fixed.xml`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

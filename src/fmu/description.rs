@@ -61,16 +61,15 @@ impl Layout {
         info: &DescriptionInfo,
     ) -> Result<String, VariablesError> {
         if !valid_name(&info.model_identifier) {
-            return Err(VariablesError(format!(
-                "model identifier '{}' must be a letter followed by letters, digits or '_'",
-                info.model_identifier
-            )));
+            return Err(VariablesError::InvalidModelIdentifier(
+                info.model_identifier.clone(),
+            ));
         }
         if info.guid.is_empty() {
-            return Err(VariablesError("empty GUID".into()));
+            return Err(VariablesError::EmptyGuid);
         }
         let fixed_count = PARAMETERS.len();
-        let err = |e: &dyn fmt::Display| VariablesError(format!("XML: {e}"));
+        let err = |e: &dyn fmt::Display| VariablesError::Xml(e.to_string());
         let mut reader = Reader::from_str(fixed_xml);
         let mut writer = Writer::new(Vec::new());
         let mut seen_variables = 0usize;
@@ -146,9 +145,10 @@ impl Layout {
                 }
                 Event::End(e) if e.name().as_ref() == b"ModelVariables" => {
                     if seen_variables != fixed_count {
-                        return Err(VariablesError(format!(
-                            "the fixed XML declares {seen_variables} variables, the constants {fixed_count}"
-                        )));
+                        return Err(VariablesError::FixedVariableCount {
+                            declared: seen_variables,
+                            expected: fixed_count,
+                        });
                     }
                     self.write_variables(&mut writer, fixed_count)
                         .map_err(|e| err(&e))?;
@@ -165,9 +165,7 @@ impl Layout {
             }
         }
         if !done {
-            return Err(VariablesError(
-                "the fixed XML has no </ModelVariables>".into(),
-            ));
+            return Err(VariablesError::NoModelVariablesEnd);
         }
         let mut text = String::from_utf8(writer.into_inner()).map_err(|e| err(&e))?;
         if !text.ends_with('\n') {

@@ -9,7 +9,7 @@
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
 
 use crate::fmu::guid::content_guid;
-use crate::realize::Network;
+use crate::network::Network;
 use std::fmt;
 use std::path::{Path, PathBuf};
 

@@ -28,11 +28,72 @@ use std::fmt;
 
 /// Why a layout or a model description could not be made.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct VariablesError(pub String);
+#[non_exhaustive]
+pub enum VariablesError {
+    /// The hull has no DOF.
+    NoDofs,
+    /// A DOF name is not a letter followed by letters, digits or '_'.
+    InvalidDofName(String),
+    /// A DOF's length exponent is neither 0 nor 1.
+    LengthExponent {
+        /// DOF name.
+        dof: String,
+        /// The refused exponent.
+        exponent: u8,
+    },
+    /// Two DOFs have the same name.
+    DuplicateDof(String),
+    /// More DOFs than the value references allow.
+    TooManyDofs(usize),
+    /// A variable without value reference (a defect of the layout).
+    MissingValueReference,
+    /// The model identifier is not a letter followed by letters, digits or '_'.
+    InvalidModelIdentifier(String),
+    /// The GUID is empty.
+    EmptyGuid,
+    /// The fixed XML could not be read or the description not written.
+    Xml(String),
+    /// The fixed XML declares another number of variables than the fixed parameters.
+    FixedVariableCount {
+        /// Variables in the fixed XML.
+        declared: usize,
+        /// Fixed parameters in the constants.
+        expected: usize,
+    },
+    /// The fixed XML has no `</ModelVariables>`.
+    NoModelVariablesEnd,
+}
 
 impl fmt::Display for VariablesError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "FMU variables: {}", self.0)
+        f.write_str("FMU variables: ")?;
+        match self {
+            VariablesError::NoDofs => write!(f, "a hull needs at least one DOF"),
+            VariablesError::InvalidDofName(name) => write!(
+                f,
+                "DOF name '{name}' must be a letter followed by letters, digits or '_'"
+            ),
+            VariablesError::LengthExponent { dof, exponent } => write!(
+                f,
+                "DOF '{dof}': length exponent {exponent} (0 or 1 expected)"
+            ),
+            VariablesError::DuplicateDof(name) => write!(f, "DOF '{name}' appears twice"),
+            VariablesError::TooManyDofs(n) => write!(f, "{n} DOFs is too many"),
+            VariablesError::MissingValueReference => write!(f, "internal: no value reference"),
+            VariablesError::InvalidModelIdentifier(id) => write!(
+                f,
+                "model identifier '{id}' must be a letter followed by letters, digits or '_'"
+            ),
+            VariablesError::EmptyGuid => write!(f, "empty GUID"),
+            VariablesError::Xml(message) => write!(f, "XML: {message}"),
+            VariablesError::FixedVariableCount { declared, expected } => write!(
+                f,
+                "the fixed XML declares {declared} variables, the constants {expected}"
+            ),
+            VariablesError::NoModelVariablesEnd => {
+                write!(f, "the fixed XML has no </ModelVariables>")
+            }
+        }
     }
 }
 
@@ -134,28 +195,25 @@ impl Layout {
     /// The layout for these DOFs; `keep_inf_mass` adds the acceleration inputs.
     pub fn new(dofs: Vec<DofUnit>, keep_inf_mass: bool) -> Result<Layout, VariablesError> {
         if dofs.is_empty() {
-            return Err(VariablesError("a hull needs at least one DOF".into()));
+            return Err(VariablesError::NoDofs);
         }
         for (i, d) in dofs.iter().enumerate() {
             if !valid_name(&d.name) {
-                return Err(VariablesError(format!(
-                    "DOF name '{}' must be a letter followed by letters, digits or '_'",
-                    d.name
-                )));
+                return Err(VariablesError::InvalidDofName(d.name.clone()));
             }
             if d.length_exponent > 1 {
-                return Err(VariablesError(format!(
-                    "DOF '{}': length exponent {} (0 or 1 expected)",
-                    d.name, d.length_exponent
-                )));
+                return Err(VariablesError::LengthExponent {
+                    dof: d.name.clone(),
+                    exponent: d.length_exponent,
+                });
             }
             if dofs[..i].iter().any(|o| o.name == d.name) {
-                return Err(VariablesError(format!("DOF '{}' appears twice", d.name)));
+                return Err(VariablesError::DuplicateDof(d.name.clone()));
             }
         }
         let n = dofs.len();
         if n > 1000 {
-            return Err(VariablesError(format!("{n} DOFs is too many")));
+            return Err(VariablesError::TooManyDofs(n));
         }
         let mut layout = Layout {
             dofs,
@@ -287,7 +345,7 @@ impl Layout {
             if !matches!(v.quantity, Quantity::Rho | Quantity::G) {
                 v.value_reference = layout
                     .value_reference(v.quantity)
-                    .ok_or_else(|| VariablesError("internal: no value reference".into()))?;
+                    .ok_or(VariablesError::MissingValueReference)?;
             }
         }
         layout.variables = vars;

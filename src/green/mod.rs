@@ -112,6 +112,7 @@ pub enum FreeSurface {
 
 /// Invalid input to [`GreenFunction::new`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum GreenError {
     /// The wavenumber must be finite and strictly positive.
     InvalidWavenumber(f64),

@@ -48,6 +48,7 @@ pub type Point = [f64; 2];
 /// Why a hull could not be built: the source (file name, or built-in / hull name), the line
 /// when it came from a file, and the problem.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct HullError {
     source: String,
     line: Option<usize>,

@@ -4,6 +4,7 @@ use std::fmt;
 
 /// Errors of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum IdentifyError {
     /// The frequency response is unusable (sizes, NaN, non-physical `A_inf`).
     InvalidData(String),

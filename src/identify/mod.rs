@@ -139,12 +139,12 @@ mod single_dof;
 #[cfg(test)]
 mod tests;
 
-pub use crate::realize::NetworkForm;
 pub use error::IdentifyError;
 pub use params::{FitParams, FitReport, DEFAULT_TOLERANCE};
 pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
 pub use response::FrequencyResponse;
 
+use crate::network::NetworkForm;
 use problem::Problem;
 
 /// Fits a network to `data` (see the module docs): of `params.form`, or of the automatic form

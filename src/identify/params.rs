@@ -2,7 +2,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::realize::{Network, NetworkForm};
+use crate::network::{Network, NetworkForm};
 
 /// Settings of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::{FitReport, FrequencyResponse, IdentifyError};
-use crate::realize::{Branch, Network};
+use crate::network::{Branch, Network};
 
 /// The normalized fitting problem.
 pub(super) struct Problem {

@@ -7,7 +7,7 @@ use nalgebra::DMatrix;
 use num_complex::Complex64;
 
 use super::IdentifyError;
-use crate::realize::Network;
+use crate::network::Network;
 
 /// Complex added mass of the hull over frequency (the panel method's output).
 #[derive(Clone, Debug, PartialEq)]

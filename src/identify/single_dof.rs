@@ -9,8 +9,8 @@ use num_complex::Complex64;
 use super::chain::{chain_response, LOG_BOUND};
 use super::problem::{fastest_rate, keep_best, Problem};
 use super::{FitParams, IdentifyError};
+use crate::network::{Branch, Network, NetworkForm, Stage};
 use crate::numerics::{levenberg_marquardt, nnls, LeastSquares, SplitMix64};
-use crate::realize::{Branch, Network, NetworkForm, Stage};
 
 /// Random restarts are tried only if the best deterministic start is within this factor of
 /// the tolerance.

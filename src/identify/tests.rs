@@ -7,8 +7,8 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::*;
+use crate::network::{Branch, Network, NetworkForm, Stage};
 use crate::numerics::SplitMix64;
-use crate::realize::{Branch, Network, Stage};
 
 pub(super) const RHO: f64 = 1025.0;
 pub(super) const G: f64 = 9.81;

@@ -19,7 +19,7 @@
 //! A step from t to t + h is exact for inputs held over the step, or ramped
 //! (`v(t + s) = v + v' s`) when the master set input derivatives; afterwards the stored
 //! inputs are the ramp's end values and the derivatives stay set until the master changes
-//! them. `rho` and `g` rescale the network exactly ([`crate::realize::Network::scaled`]).
+//! them. `rho` and `g` rescale the network exactly ([`crate::network::Network::scaled`]).
 //!
 //! Layout (Rapier style), one file each: [`RadiationSystem`] (`system`) holds the matrices at
 //! one rho, g; [`Stepper`] (`stepper`) holds the discretization cache and scratch memory;
@@ -46,7 +46,7 @@ use crate::discretize::DiscretizeError;
 use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use crate::fmu::resources::ResourcesError;
 use crate::fmu::variables::Quantity;
-use crate::realize::Network;
+use crate::network::{Network, NetworkError};
 use nalgebra::DVector;
 use outputs::Outputs;
 use std::fmt;
@@ -68,11 +68,14 @@ pub fn acceptable(value: f64) -> bool {
 
 /// Why a model call was refused. The state is unchanged whenever an error is returned.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ModelError {
     /// A resource file is missing or malformed.
-    Resources(String),
-    /// The network cannot be used.
-    Network(String),
+    Resources(ResourcesError),
+    /// The network cannot be realized.
+    Network(NetworkError),
+    /// The realized system does not fit together (no DOFs, sizes, non-finite values).
+    System(String),
     /// A parameter value is out of range.
     Parameter {
         /// Parameter name.
@@ -91,6 +94,8 @@ pub enum ModelError {
     Variable(String),
     /// The step was refused or failed.
     Step(String),
+    /// The step's discretization failed.
+    Discretize(DiscretizeError),
     /// Serialized state bytes are corrupt or belong to another FMU.
     State(String),
 }
@@ -98,8 +103,9 @@ pub enum ModelError {
 impl fmt::Display for ModelError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            ModelError::Resources(m) => write!(f, "resources: {m}"),
-            ModelError::Network(m) => write!(f, "network: {m}"),
+            ModelError::Resources(e) => write!(f, "resources: {}", e.detail()),
+            ModelError::Network(e) => write!(f, "network: {e}"),
+            ModelError::System(m) => write!(f, "network: {m}"),
             ModelError::Parameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
@@ -109,22 +115,32 @@ impl fmt::Display for ModelError {
             ),
             ModelError::Variable(m) => write!(f, "{m}"),
             ModelError::Step(m) => write!(f, "step refused: {m}"),
+            ModelError::Discretize(e) => write!(f, "step refused: {e}"),
             ModelError::State(m) => write!(f, "FMU state: {m}"),
         }
     }
 }
 
-impl std::error::Error for ModelError {}
+impl std::error::Error for ModelError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ModelError::Resources(e) => Some(e),
+            ModelError::Network(e) => Some(e),
+            ModelError::Discretize(e) => Some(e),
+            _ => None,
+        }
+    }
+}
 
 impl From<DiscretizeError> for ModelError {
     fn from(e: DiscretizeError) -> Self {
-        ModelError::Step(e.to_string())
+        ModelError::Discretize(e)
     }
 }
 
 impl From<ResourcesError> for ModelError {
     fn from(e: ResourcesError) -> Self {
-        ModelError::Resources(e.detail())
+        ModelError::Resources(e)
     }
 }
 

@@ -8,7 +8,7 @@
 //! ```
 //!
 //! At a fixed state every output and calculated parameter is a sum of monomials in rho and g
-//! ([`crate::realize::Network::scaled`]): masses and `A_inf` scale with rho, springs with rho g, dampers
+//! ([`crate::network::Network::scaled`]): masses and `A_inf` scale with rho, springs with rho g, dampers
 //! with rho sqrt(g). So `d/drho = value / rho` for all of them, and
 //! `dF/dg = (F_spring + F_damper / 2) / g` with `F_spring = C_e z_e` (the elongation columns)
 //! and `F_damper = C_u z_u + D v`; `d energy/dg = energy_spring / g` with

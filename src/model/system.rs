@@ -13,7 +13,7 @@ use super::{acceptable, ModelError};
 use crate::discretize::LinearMap;
 use crate::fmu::description::PARAMETERS;
 use crate::fmu::resources::Resources;
-use crate::realize::Network;
+use crate::network::Network;
 use nalgebra::DMatrix;
 use std::path::Path;
 
@@ -78,9 +78,7 @@ impl RadiationSystem {
         check_parameter("rho", rho)?;
         check_parameter("g", g)?;
         let scaled = network.scaled(rho, g);
-        let ss = scaled
-            .state_space()
-            .map_err(|e| ModelError::Network(e.to_string()))?;
+        let ss = scaled.state_space().map_err(ModelError::Network)?;
         let system = RadiationSystem {
             spring_count: ss.elongation_damping.len(),
             branch_projection: ss.branch_directions.clone(),
@@ -116,7 +114,7 @@ impl RadiationSystem {
             ("B_r", &self.b_branch, ns, self.branch_count()),
         ];
         if n == 0 {
-            return Err(ModelError::Network("no DOFs".into()));
+            return Err(ModelError::System("no DOFs".into()));
         }
         let r = self.branch_count();
         if self.branch_projection.ncols() != n
@@ -124,20 +122,20 @@ impl RadiationSystem {
             || self.branch_force.cols() != ns
             || 2 * self.spring_count != ns
         {
-            return Err(ModelError::Network(format!(
+            return Err(ModelError::System(format!(
                 "the branch maps do not fit {n} DOFs, {r} branches and {ns} states"
             )));
         }
         for (name, m, r, c) in shapes {
             if m.nrows() != r || m.ncols() != c {
-                return Err(ModelError::Network(format!(
+                return Err(ModelError::System(format!(
                     "{name} is {}x{}, expected {r}x{c}",
                     m.nrows(),
                     m.ncols()
                 )));
             }
             if m.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::Network(format!("{name} is not finite")));
+                return Err(ModelError::System(format!("{name} is not finite")));
             }
         }
         Ok(())
@@ -183,8 +181,7 @@ impl RadiationSystem {
 
 /// Parses the network text (glue to [`crate::realize`]).
 pub(super) fn parse_network(text: &str) -> Result<Network, ModelError> {
-    Network::from_xml_str(text, Resources::NETWORK_FILE)
-        .map_err(|e| ModelError::Network(e.to_string()))
+    Network::from_xml_str(text, Resources::NETWORK_FILE).map_err(ModelError::Network)
 }
 
 #[cfg(test)]

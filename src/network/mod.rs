@@ -104,6 +104,7 @@ impl fmt::Display for NetworkForm {
 
 /// Errors of network validation and of network files.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum NetworkError {
     /// The network's values break a rule of [`Network::validate`].
     Invalid(String),

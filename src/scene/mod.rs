@@ -24,11 +24,11 @@ mod report;
 
 pub use report::{LeftOut, RangeError, SceneReport};
 
+use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use crate::hull::Hull;
 use crate::identify::{self, FitParams, FitReport, FrequencyResponse, IdentifyError};
-use crate::model_description::{DEFAULT_G, DEFAULT_RHO};
+use crate::network::NetworkForm;
 use crate::panels::PanelParams;
-use crate::realize::NetworkForm;
 use crate::sweep::{self, SweepError, SweepParams, SweepResult};
 use crate::units;
 use std::fmt;
@@ -295,12 +295,7 @@ impl Scene {
         &self,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<SweepResult, SceneError> {
-        Ok(sweep::run(
-            &self.hull,
-            self.hull.circle_depth_ratio(),
-            &self.sweep,
-            progress,
-        )?)
+        Ok(sweep::run(&self.hull, &self.sweep, progress)?)
     }
 }
 

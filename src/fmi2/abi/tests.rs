@@ -5,10 +5,11 @@
 //! locals with the entry counts passed.
 
 use super::*;
-use crate::fmi2::{resource_path, Phase};
+use crate::fmi2::phase::Phase;
+use crate::fmi2::uri::resource_path;
+use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, LOG_CATEGORIES, VR_G, VR_RHO};
 use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
 use crate::model::Resources;
-use crate::model_description::{FIRST_PER_HULL_REFERENCE, LOG_CATEGORIES, VR_G, VR_RHO};
 use std::ffi::{c_int, c_void};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};

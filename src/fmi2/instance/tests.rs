@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::fmi2::types::{fmi2DoStepStatus, fmi2ModelExchange};
+use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
 use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
-use crate::model_description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
 
 const VELOCITY: u32 = FIRST_PER_HULL_REFERENCE;
 const FORCE: u32 = FIRST_PER_HULL_REFERENCE + 1;

@@ -8,7 +8,7 @@ use super::blocks::Reduced;
 use super::groups::GroupSet;
 use crate::identify::problem::{branch_rate, Problem};
 use crate::identify::single_dof::chain_dynamic_mass;
-use crate::realize::{Branch, Network, NetworkForm, Stage};
+use crate::network::{Branch, Network, NetworkForm, Stage};
 
 impl Problem {
     /// Branches from PSD weights (in the reduced subspace): one per significant eigenvalue,

@@ -9,7 +9,7 @@ use super::weights::{psd_weights, DICTIONARY_PRECISION, PSD_PRECISION};
 use super::CoupledState;
 use crate::identify::problem::Problem;
 use crate::identify::FitParams;
-use crate::realize::Network;
+use crate::network::Network;
 
 /// Band-pass two-stage chains (first damper tiny) over the band, plus a few with a normal
 /// first damper (high-pass), as `GroupSet` with first mass 1.

@@ -5,7 +5,7 @@ use nalgebra::DMatrix;
 use num_complex::Complex64;
 
 use crate::identify::chain::chain_response;
-use crate::realize::Stage;
+use crate::network::Stage;
 
 /// Shared dynamics of the coupled form: `count` groups, each a chain of `stages` stages whose
 /// first mass is 1 (normalized; the PSD weight carries the scale). Log parameters per group:

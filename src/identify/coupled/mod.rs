@@ -26,7 +26,7 @@ use num_complex::Complex64;
 
 use super::problem::{keep_best, Problem};
 use super::{FitParams, IdentifyError};
-use crate::realize::{Network, Stage};
+use crate::network::{Network, Stage};
 use blocks::Reduced;
 use branches::distinct_dynamics;
 use groups::GroupSet;

@@ -10,7 +10,7 @@ use super::Scope;
 use crate::identify::chain::LOG_BOUND;
 use crate::identify::problem::Problem;
 use crate::identify::FitParams;
-use crate::realize::Network;
+use crate::network::Network;
 
 impl Problem {
     /// Network of PSD-weighted groups, after the joint refinement if the tolerance is not met

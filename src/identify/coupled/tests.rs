@@ -7,8 +7,8 @@ use num_complex::Complex64;
 use super::blocks::{invariant_blocks, COMMUTANT_THRESHOLD};
 use crate::identify::problem::Problem;
 use crate::identify::tests::{coupled_truth, fit_ok, log_grid, stage, unit_mass, G, RHO};
-use crate::identify::{FitParams, FrequencyResponse, NetworkForm, DEFAULT_TOLERANCE};
-use crate::realize::{Branch, Network};
+use crate::identify::{FitParams, FrequencyResponse, DEFAULT_TOLERANCE};
+use crate::network::{Branch, Network, NetworkForm};
 
 #[test]
 fn coupled_network_is_reconstructed_with_weak_couplings() {

@@ -11,8 +11,8 @@ use super::CoupledState;
 use crate::identify::chain::LOG_BOUND;
 use crate::identify::problem::Problem;
 use crate::identify::FitParams;
+use crate::network::Network;
 use crate::numerics::{levenberg_marquardt, LeastSquares};
-use crate::realize::Network;
 
 /// Variable projection over shared group dynamics: residual of the best unconstrained weights.
 pub(super) struct GroupModel<'a> {
