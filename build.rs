@@ -1,7 +1,7 @@
 //! Turns `modelDescription/fixed.xml` into Rust constants, so the code and the XML cannot drift.
 //!
 //! The generated file (`$OUT_DIR/model_description.rs`) is included by
-//! `src/model_description.rs`. Any malformed or inconsistent declaration fails the build with a
+//! `src/fmu/description.rs`. Any malformed or inconsistent declaration fails the build with a
 //! message naming the file, the line and the problem.
 
 use std::collections::BTreeSet;

@@ -326,7 +326,7 @@ fn main() {
          |A(sway,cb2) - A(sway,cb5)| = {:.1e}, |A(sway,cb3) - A(sway,cb6)| = {:.1e}. The seed \
          reports modes 1 and 4 equal and modes 2, 3 and 6 equal to minus mode 5: its modes 1-3 \
          sit at the other end of the beam, with theta reversed (see the Table 1 test in \
-         `src/hull.rs`), which turns the signs; its claim that 2 and 3 are equal does not hold \
+         `src/hull/craig_bampton.rs`), which turns the signs; its claim that 2 and 3 are equal does not hold \
          here (|A(sway,cb2) - A(sway,cb3)| = {:.2} at R = 1 m).\n",
         sym(1, 4, -1.0),
         sym(2, 5, 1.0),

@@ -18,9 +18,9 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 use std::fmt;
 
-/// Largest document read, in bytes (64 MiB). A hull file of 10,000 contour points with 99
-/// elastic modes (a million `<point>`/`<u>` elements of about 40 bytes) fits; anything larger
-/// is not a hull, network, options or model description file.
+/// Largest document read, in bytes (64 MiB): about a million elements of 40 to 60 bytes, as
+/// many as [`MAX_ELEMENTS`] allows (a hull file of 10,000 contour points with 98 elastic
+/// modes); anything larger is not a hull, network, options or model description file.
 pub const MAX_INPUT_BYTES: usize = 64 * 1024 * 1024;
 
 /// Deepest nesting of elements (the root is at depth 1). Our formats nest at most 4 deep
@@ -28,8 +28,8 @@ pub const MAX_INPUT_BYTES: usize = 64 * 1024 * 1024;
 /// annotations in model descriptions written by other tools.
 pub const MAX_DEPTH: usize = 64;
 
-/// Most elements in one document: the hull file of [`MAX_INPUT_BYTES`] (a million point and
-/// mode-vector elements). Bounds the tree's memory to a few hundred MB.
+/// Most elements in one document: a hull file of 10,000 contour points with 98 elastic modes
+/// (990,000 point and mode-vector elements). Bounds the tree's memory to a few hundred MB.
 pub const MAX_ELEMENTS: usize = 1_000_000;
 
 /// Most attributes on one element. The richest element we read, `<CoSimulation>` of an FMI 2.0

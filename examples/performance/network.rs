@@ -9,7 +9,7 @@ use hydrofmu::discretize::{discretize, expm};
 use hydrofmu::fmu::Quantity;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
-use hydrofmu::model::{Model, Resources};
+use hydrofmu::model::{Model, ModelOptions};
 use hydrofmu::network::{Network, NetworkForm};
 use hydrofmu::sweep::{self, SweepParams};
 use nalgebra::{DMatrix, DVector};
@@ -24,13 +24,7 @@ fn default_band() -> (f64, f64) {
 }
 
 fn try_model(network: &Network) -> Result<Model, String> {
-    let resources = Resources::new(
-        network.to_xml_string(),
-        None,
-        Resources::options_text(false),
-    )
-    .map_err(|e| e.to_string())?;
-    Model::from_resources(&resources).map_err(|e| e.to_string())
+    Model::new(network, ModelOptions::default()).map_err(|e| e.to_string())
 }
 
 fn model_of(network: &Network) -> Model {
