@@ -42,7 +42,7 @@ pub mod hull;
 pub mod identify;
 pub mod model;
 pub mod network;
-pub mod numerics;
+pub(crate) mod numerics;
 pub mod panels;
 pub mod realize;
 pub mod scene;

@@ -127,7 +127,7 @@
 //!   branches).
 //!
 //! The hydrodynamics-free numerics (least squares, NNLS, PSD projection, random starts) are in
-//! [`crate::numerics`].
+//! `src/numerics/`.
 
 mod chain;
 mod coupled;

@@ -8,7 +8,7 @@ mod nnls;
 mod psd;
 mod rng;
 
-pub use least_squares::{levenberg_marquardt, LeastSquares, LmResult, Termination};
+pub use least_squares::{levenberg_marquardt, LeastSquares};
 pub use nnls::nnls;
 pub use psd::project_psd;
 pub use rng::SplitMix64;
