@@ -19,7 +19,7 @@
 //!   [`FitParams`], [`FitReport`]);
 //! - [`network`]: the mass-spring-damper network and its file format ([`Network`]);
 //! - [`realize`]: its matrices and first-order state space ([`StateSpace`]);
-//! - [`discretize`]: the exact zero-order-hold step;
+//! - [`discretize`]: the exact step over one communication interval (input held or ramped);
 //! - [`model`]: the component that steps in time ([`Model`], [`ModelOptions`]).
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
