@@ -10,7 +10,7 @@ use crate::progress::Progress;
 use hydrofmu::fmu::DofUnit;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::FitReport;
-use hydrofmu::scene::{Band, BuiltScene, Scene, SceneError, SceneFit, SceneReport, SceneResponse};
+use hydrofmu::scene::{Band, BuiltScene, Scene, SceneError, SceneReport, SceneResponse};
 use hydrofmu::sweep::SweepResult;
 use std::time::{Duration, Instant};
 
@@ -90,8 +90,8 @@ pub fn build_network(scene: Scene) -> Result<Built, String> {
     }
     let response = scene.response(&sweep).map_err(message)?;
     let start = Instant::now();
-    let SceneFit { report: fit, notes } = scene.fit(&response).map_err(message)?;
-    for note in &notes {
+    let fit = scene.fit(&response).map_err(message)?;
+    for note in &fit.notes {
         eprintln!("fmu-pack: {note}");
     }
     let fit_time = start.elapsed();

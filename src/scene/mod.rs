@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! Scene --build--> BuiltScene --sweep--> SweepResult --response--> SceneResponse
-//!       --fit--> SceneFit --report--> SceneReport
+//!       --fit--> FitReport --report--> SceneReport
 //! ```
 //!
 //! * Build: checks the tolerance and the band, and cuts the band at the Nyquist frequency
@@ -308,16 +308,6 @@ pub struct SceneResponse {
     pub full: Option<FrequencyResponse>,
 }
 
-/// A fitted network and the notes of the automatic form choice.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneFit {
-    /// The fit.
-    pub report: FitReport,
-    /// Sentences on the form chosen (for example the parallel-bank fallback); empty when
-    /// there is nothing to say.
-    pub notes: Vec<String>,
-}
-
 /// A checked scene with its band fixed; runs the pipeline stage by stage.
 #[derive(Clone, Debug)]
 pub struct BuiltScene {
@@ -376,7 +366,7 @@ impl BuiltScene {
     }
 
     /// Fits the network to the scene's DOFs in the band.
-    pub fn fit(&self, response: &SceneResponse) -> Result<SceneFit, SceneError> {
+    pub fn fit(&self, response: &SceneResponse) -> Result<FitReport, SceneError> {
         let params = FitParams {
             band: self.band,
             tolerance: self.scene.tolerance,
@@ -384,9 +374,7 @@ impl BuiltScene {
             form: self.scene.form,
             ..FitParams::default()
         };
-        let report = identify::fit(&response.fitted, &params)?;
-        let notes = report.notes.clone();
-        Ok(SceneFit { report, notes })
+        Ok(identify::fit(&response.fitted, &params)?)
     }
 
     /// The scene report of a fit (see [`SceneReport`]).

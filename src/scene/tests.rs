@@ -105,16 +105,16 @@ fn report_states_the_error_out_of_band_and_the_left_out_dofs() {
     let full = response.full.as_ref().expect("the full response is kept");
     assert_eq!(full.dof_count(), 9);
     let fit = built.fit(&response).unwrap();
-    assert_eq!(fit.report.network.form, NetworkForm::SeriesChain);
+    assert_eq!(fit.network.form, NetworkForm::SeriesChain);
     assert!(fit.notes.is_empty(), "{:?}", fit.notes);
-    let report = built.report(&response, &fit.report);
+    let report = built.report(&response, &fit);
 
     assert_eq!(report.dofs, ["sway"]);
     assert_eq!(report.band, built.band());
-    assert_eq!(report.fitted, fit.report.band);
+    assert_eq!(report.fitted, fit.band);
     assert!(report.band.0 <= report.fitted.0 && report.fitted.1 <= report.band.1);
-    assert_eq!(report.states, 2 * fit.report.aux_dofs);
-    assert_eq!(report.in_band, fit.report.max_relative_error);
+    assert_eq!(report.states, 2 * fit.aux_dofs);
+    assert_eq!(report.in_band, fit.max_relative_error);
     assert_eq!(report.tolerance_met, report.in_band <= report.tolerance);
 
     // Left out: the eight other DOFs; heave is symmetric, sway antisymmetric: no coupling.
@@ -136,10 +136,9 @@ fn report_states_the_error_out_of_band_and_the_left_out_dofs() {
 
     // Out of band: the grid points below and above, with the error computed independently.
     let omega = &response.fitted.omega;
-    let scale = fit.report.error_scale[(0, 0)];
+    let scale = fit.error_scale[(0, 0)];
     let error_at = |k: usize| {
-        (fit.report.network.added_mass_tf(omega[k])[(0, 0)] - response.fitted.added_mass[k][(0, 0)])
-            .norm()
+        (fit.network.added_mass_tf(omega[k])[(0, 0)] - response.fitted.added_mass[k][(0, 0)]).norm()
             / scale
     };
     for (range, outside) in [
@@ -188,7 +187,7 @@ fn a_scene_of_every_dof_leaves_nothing_out_and_the_nyquist_cut_is_reported() {
     let response = built.response(&sweep).unwrap();
     assert!(response.full.is_none());
     let fit = built.fit(&response).unwrap();
-    let report = built.report(&response, &fit.report);
+    let report = built.report(&response, &fit);
     assert!(report.left_out.is_empty());
     assert_eq!(report.nyquist_cut, Some(PI / 1.2));
     assert_eq!(report.band.1, PI / 1.2);
