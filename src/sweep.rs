@@ -9,8 +9,15 @@
 //! rigid-lid problem and is finite only for entries where at least one of the two DOFs has no
 //! net flux through the contour (`integral n_j ds = 0`); entries between two DOFs with net flux
 //! (heave, `cb2`, `cb5`) diverge like `-(flux_i flux_j / (pi^2 R^2)) ln kR` and are left out.
+//!
+//! Every wave frequency also gives the exciting force of regular waves from headings 0 and 180
+//! ([`crate::bem`]), nondimensional as in DESIGN.md: `X_j / (rho g a R^(1 + e_j))`, `e_j` the
+//! DOF's length exponent ([`Hull::dof_unit`]). Its long-wave limit (`kR = 0` rows) is the
+//! hydrostatic one, `X_j -> rho g a integral_C n_j ds`: the scattered wave vanishes with k.
 
-use crate::bem::{BemError, IrregularFrequencies, Problem, RadiationSolution};
+use crate::bem::{
+    BemError, IrregularFrequencies, Problem, RadiationSolution, WaveForces, HEADINGS,
+};
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelError, PanelParams};
@@ -133,6 +140,28 @@ impl Solver {
         self.problems[0].mesh()
     }
 
+    /// The long-wave limit of the exciting force per `rho g a`, `integral_C n_j ds` for every
+    /// DOF (the net flux), extrapolated over the levels like the solves.
+    pub fn long_wave_excitation(&self) -> Vec<f64> {
+        let h: Vec<f64> = self
+            .problems
+            .iter()
+            .map(|p| 1.0 / p.mesh().body.len() as f64)
+            .collect();
+        let mut table: Vec<Vec<f64>> = self.problems.iter().map(|p| p.mesh().net_flux()).collect();
+        for m in 1..table.len() {
+            for i in 0..table.len() - m {
+                let (hi, hj) = (h[i], h[i + m]);
+                table[i] = table[i]
+                    .iter()
+                    .zip(&table[i + 1])
+                    .map(|(a, b)| (a * -hj + b * hi) / (hi - hj))
+                    .collect();
+            }
+        }
+        table.swap_remove(0)
+    }
+
     /// `A~ / rho` for `surface`, extrapolated, with the reciprocity residual of the finest
     /// solve and the stage times summed over the levels.
     ///
@@ -154,6 +183,8 @@ impl Solver {
             .collect();
         let mut table: Vec<DMatrix<Complex64>> =
             solutions.iter().map(|s| s.added_mass.clone()).collect();
+        let mut waves: Vec<Option<WaveForces>> =
+            solutions.iter().map(|s| s.wave_forces.clone()).collect();
         // Neville: table[i] <- value at h = 0 of the polynomial through points i ..= i + m.
         for m in 1..table.len() {
             for i in 0..table.len() - m {
@@ -162,6 +193,9 @@ impl Solver {
                     + &table[i + 1] * Complex64::new(hi, 0.0))
                     / Complex64::new(hi - hj, 0.0);
                 table[i] = next;
+                if let (Some(a), Some(b)) = (&waves[i], &waves[i + 1]) {
+                    waves[i] = Some(a.combine(-hj, b, hi, hi - hj));
+                }
             }
         }
         let mut finest = solutions.swap_remove(0);
@@ -171,6 +205,7 @@ impl Solver {
             finest.factorization_time += other.factorization_time;
         }
         finest.added_mass = table.swap_remove(0);
+        finest.wave_forces = waves.swap_remove(0);
         Ok(finest)
     }
 }
@@ -301,6 +336,13 @@ pub struct SweepResult {
     pub added_mass_inf: DMatrix<f64>,
     /// `A(0) / (rho pi R^2)`; entries that diverge are `None`.
     pub added_mass_zero: DMatrix<Option<f64>>,
+    /// Each DOF's length exponent `e_j` (0: a length; 1: an angle or mode amplitude).
+    pub length_exponents: Vec<u8>,
+    /// Exciting forces `X_j / (rho g a R^(1 + e_j))` at each entry of `kr`, one column per
+    /// heading of [`crate::bem::HEADINGS`].
+    pub excitation: Vec<WaveForces>,
+    /// The long-wave limit of the same (`kR -> 0`, every heading): `integral_C n_j ds / R^(1 + e_j)`.
+    pub excitation_long_wave: Vec<f64>,
     /// Frequencies that failed, with the reason.
     pub failures: Vec<(f64, String)>,
     /// Physics sanity warnings (for example panels too coarse for the wavelength).
@@ -367,6 +409,17 @@ pub fn run(
     };
     let solutions = solve_all(&pool, &params.kr, &solve_at, progress);
     let total = params.kr.len();
+    let length_exponents: Vec<u8> = hull.dof_units().iter().map(|u| u.length_exponent).collect();
+    let force_scale: Vec<f64> = length_exponents
+        .iter()
+        .map(|&e| radius.powi(1 + i32::from(e)))
+        .collect();
+    let excitation_long_wave = solver
+        .long_wave_excitation()
+        .iter()
+        .zip(&force_scale)
+        .map(|(flux, scale)| flux / scale)
+        .collect();
 
     let mut result = SweepResult {
         hull_name: hull.name().to_string(),
@@ -378,6 +431,9 @@ pub fn run(
         reciprocity_residual: Vec::with_capacity(total),
         added_mass_inf,
         added_mass_zero,
+        length_exponents,
+        excitation: Vec::with_capacity(total),
+        excitation_long_wave,
         failures: Vec::new(),
         warnings: Vec::new(),
         times: StageTimes::default(),
@@ -386,6 +442,11 @@ pub fn run(
     let mut coarse: Option<(f64, String)> = None;
     for (kr, solution) in solutions {
         match solution {
+            Ok(RadiationSolution {
+                wave_forces: None, ..
+            }) => result
+                .failures
+                .push((kr, "the solve gave no exciting force".to_string())),
             Ok(solution) => {
                 result.times.influence += solution.influence_time;
                 result.times.assembly += solution.assembly_time;
@@ -397,6 +458,18 @@ pub fn run(
                 result
                     .reciprocity_residual
                     .push(solution.reciprocity_residual);
+                if let Some(mut forces) = solution.wave_forces {
+                    for part in [
+                        &mut forces.haskind,
+                        &mut forces.direct,
+                        &mut forces.froude_krylov,
+                    ] {
+                        for (j, mut row) in part.row_iter_mut().enumerate() {
+                            row /= Complex64::new(force_scale[j], 0.0);
+                        }
+                    }
+                    result.excitation.push(forces);
+                }
                 if coarse.is_none() {
                     coarse = mesh
                         .wavelength_warning(units::wavenumber_from_kr(kr, radius))
@@ -457,11 +530,114 @@ fn solve_all(
     })
 }
 
+/// Which exciting force an excitation table holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExcitationPart {
+    /// The total force (Froude-Krylov plus diffraction), by the direct diffraction solve.
+    Total,
+    /// The Froude-Krylov part alone (the undisturbed incident wave's pressure).
+    FroudeKrylov,
+}
+
 impl SweepResult {
-    /// Writes the coefficient table of DESIGN.md: a commented header, then `kR,i,j,re,im`
-    /// with one row per matrix entry, `kR = inf` rows (A_inf), the finite `kR = 0` rows, and the
-    /// frequency rows in ascending order.
-    pub fn write_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+    /// For each DOF, the largest `|Haskind - direct|` over the sweep relative to the largest
+    /// direct `|X_j|` (the two exciting-force methods share the mesh but not the right-hand
+    /// side, so their difference measures the solver's accuracy). 0 for a DOF that waves do not excite
+    /// (largest `|X_j|` below 1e-8 of the largest of all DOFs, such as roll of a circle about
+    /// its centre, where both values are rounding noise).
+    pub fn haskind_direct_difference(&self) -> Vec<f64> {
+        let n = self.dof_names.len();
+        let per_dof: Vec<(f64, f64)> = (0..n)
+            .map(|j| {
+                let (mut largest, mut difference) = (0.0f64, 0.0f64);
+                for forces in &self.excitation {
+                    for h in 0..forces.haskind.ncols() {
+                        largest = largest.max(forces.direct[(j, h)].norm());
+                        difference = difference
+                            .max((forces.haskind[(j, h)] - forces.direct[(j, h)]).norm());
+                    }
+                }
+                (largest, difference)
+            })
+            .collect();
+        let overall = per_dof.iter().map(|p| p.0).fold(0.0, f64::max);
+        per_dof
+            .iter()
+            .map(|&(largest, difference)| {
+                if largest > 1e-8 * overall {
+                    difference / largest
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// Writes the excitation table of DESIGN.md: the added-mass table's header lines, the
+    /// DOFs' length exponents, then `kR,j,heading,re,im` with `re, im = X_j / (rho g a
+    /// R^(1 + e_j))`; the long-wave `kR = 0` rows first, then the frequencies in ascending
+    /// order, each with headings 0 and 180 and every DOF.
+    pub fn write_excitation_csv(
+        &self,
+        out: &mut dyn Write,
+        part: ExcitationPart,
+    ) -> std::io::Result<()> {
+        self.write_header(out)?;
+        let exponents: Vec<String> = self
+            .length_exponents
+            .iter()
+            .map(|e| e.to_string())
+            .collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(
+            out,
+            "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude"
+        )?;
+        match part {
+            ExcitationPart::Total => {
+                writeln!(
+                    out,
+                    "# force: total (Froude-Krylov + diffraction), by the direct diffraction solve"
+                )?;
+                let difference = self
+                    .haskind_direct_difference()
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max);
+                writeln!(
+                    out,
+                    "# Haskind relation (max over kR and DOFs of |difference| / max |X_j|): {difference:.2e}"
+                )?;
+            }
+            ExcitationPart::FroudeKrylov => {
+                writeln!(out, "# force: Froude-Krylov part (incident wave only)")?
+            }
+        }
+        self.write_notes(out)?;
+        writeln!(out, "kR,j,heading,re,im")?;
+        for heading in HEADINGS {
+            for (j, value) in self.excitation_long_wave.iter().enumerate() {
+                // + 0.0: a zero limit prints as 0, not -0.
+                writeln!(out, "0,{},{heading},{:e},0", j + 1, value + 0.0)?;
+            }
+        }
+        for (kr, forces) in self.kr.iter().zip(&self.excitation) {
+            let values = match part {
+                ExcitationPart::Total => &forces.direct,
+                ExcitationPart::FroudeKrylov => &forces.froude_krylov,
+            };
+            for (h, heading) in HEADINGS.iter().enumerate() {
+                for j in 0..values.nrows() {
+                    let z = values[(j, h)];
+                    writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The lines every table starts with: hull, H/R, modes, convention, R, panels.
+    fn write_header(&self, out: &mut dyn Write) -> std::io::Result<()> {
         writeln!(out, "# hull: {}", self.hull_name)?;
         if let Some(depth) = self.depth_over_radius {
             writeln!(out, "# H/R: {depth}")?;
@@ -473,7 +649,25 @@ impl SweepResult {
             out,
             "# panels: {} body, {} lid",
             self.panel_counts.0, self.panel_counts.1
-        )?;
+        )
+    }
+
+    /// Warnings and failed frequencies, as comment lines.
+    fn write_notes(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        for warning in &self.warnings {
+            writeln!(out, "# warning: {warning}")?;
+        }
+        for (kr, reason) in &self.failures {
+            writeln!(out, "# failed: kR = {kr}: {reason}")?;
+        }
+        Ok(())
+    }
+
+    /// Writes the coefficient table of DESIGN.md: a commented header, then `kR,i,j,re,im`
+    /// with one row per matrix entry, `kR = inf` rows (A_inf), the finite `kR = 0` rows, and the
+    /// frequency rows in ascending order.
+    pub fn write_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.write_header(out)?;
         let reciprocity = self
             .reciprocity_residual
             .iter()
@@ -483,12 +677,7 @@ impl SweepResult {
             out,
             "# reciprocity residual (max over kR): {reciprocity:.2e}"
         )?;
-        for warning in &self.warnings {
-            writeln!(out, "# warning: {warning}")?;
-        }
-        for (kr, reason) in &self.failures {
-            writeln!(out, "# failed: kR = {kr}: {reason}")?;
-        }
+        self.write_notes(out)?;
         writeln!(out, "kR,i,j,re,im")?;
         let n = self.dof_names.len();
         for i in 0..n {
@@ -586,6 +775,7 @@ mod tests {
                     influence_time: Duration::ZERO,
                     assembly_time: Duration::ZERO,
                     factorization_time: Duration::ZERO,
+                    wave_forces: None,
                 })
             }
         };

@@ -7,7 +7,7 @@ use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::scene::Scene;
-use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::sweep::{self, ExcitationPart, SweepParams};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -78,6 +78,25 @@ pub struct SweepArgs {
     /// Output CSV file (`-` for standard output).
     #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
     pub output: PathBuf,
+    /// Also write the exciting force of regular waves from headings 0 and 180 (direct
+    /// diffraction solve, checked by the Haskind relation), `kR,j,heading,re,im` with
+    /// `X_j / (rho g a R^(1 + e_j))` (docs/WAVES.md).
+    #[arg(long, value_name = "FILE.csv")]
+    pub excitation: Option<PathBuf>,
+    /// Also write the Froude-Krylov part of the exciting force alone, in the same format.
+    #[arg(long = "froude-krylov", value_name = "FILE.csv")]
+    pub froude_krylov: Option<PathBuf>,
+}
+
+/// Writes `text` to `path` (`-`: standard output).
+fn write_output(path: &std::path::Path, text: &[u8]) -> Result<(), String> {
+    if path.as_os_str() == "-" {
+        std::io::stdout()
+            .write_all(text)
+            .map_err(|e| format!("cannot write to standard output: {e}"))
+    } else {
+        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    }
 }
 
 /// Parses `MIN:MAX:COUNT`.
@@ -124,13 +143,18 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     result
         .write_csv(&mut text)
         .map_err(|e| format!("cannot format the table: {e}"))?;
-    if args.output.as_os_str() == "-" {
-        std::io::stdout()
-            .write_all(&text)
-            .map_err(|e| format!("cannot write to standard output: {e}"))?;
-    } else {
-        std::fs::write(&args.output, &text)
-            .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+    write_output(&args.output, &text)?;
+    for (path, part) in [
+        (&args.excitation, ExcitationPart::Total),
+        (&args.froude_krylov, ExcitationPart::FroudeKrylov),
+    ] {
+        if let Some(path) = path {
+            let mut text = Vec::new();
+            result
+                .write_excitation_csv(&mut text, part)
+                .map_err(|e| format!("cannot format the excitation table: {e}"))?;
+            write_output(path, &text)?;
+        }
     }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
@@ -162,5 +186,16 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         elapsed.as_secs_f64(),
         worst_reciprocity
     );
+    if args.excitation.is_some() {
+        let difference = result
+            .haskind_direct_difference()
+            .iter()
+            .copied()
+            .fold(0.0, f64::max);
+        eprintln!(
+            "exciting force: direct diffraction solve; the Haskind relation agrees to {difference:.1e} \
+             of the largest |X_j| (max over kR and DOFs)"
+        );
+    }
     Ok(())
 }
