@@ -511,6 +511,43 @@ pub fn max_normalized_difference(
     worst
 }
 
+/// The accuracy measure of the exciting force: the largest `|x_j - r_j|` over matching
+/// frequencies and both headings, relative to the largest `|r_j|` of the DOF over all of them
+/// (direct values). DOFs that waves do not excite (largest `|r_j|` below 1e-8 of the largest
+/// of all DOFs) are skipped. Returns the error, the frequency index and the (0-based) DOF.
+pub fn max_excitation_difference(
+    forces: &[WaveForces],
+    reference: &[WaveForces],
+) -> (f64, usize, usize) {
+    let Some(first) = reference.first() else {
+        return (0.0, 0, 0);
+    };
+    let largest: Vec<f64> = (0..first.direct.nrows())
+        .map(|j| {
+            reference
+                .iter()
+                .flat_map(|r| r.direct.row(j).iter().map(|z| z.norm()).collect::<Vec<_>>())
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    let overall = largest.iter().copied().fold(0.0, f64::max);
+    let mut worst = (0.0, 0, 0);
+    for (k, (x, r)) in forces.iter().zip(reference).enumerate() {
+        for (j, &scale) in largest.iter().enumerate() {
+            if scale <= 1e-8 * overall {
+                continue;
+            }
+            for h in 0..r.direct.ncols() {
+                let e = (x.direct[(j, h)] - r.direct[(j, h)]).norm() / scale;
+                if e > worst.0 {
+                    worst = (e, k, j);
+                }
+            }
+        }
+    }
+    worst
+}
+
 /// Solves every frequency on `pool`, in grid order; a failure stays with its frequency.
 fn solve_all(
     pool: &rayon::ThreadPool,
@@ -553,8 +590,8 @@ impl SweepResult {
                 for forces in &self.excitation {
                     for h in 0..forces.haskind.ncols() {
                         largest = largest.max(forces.direct[(j, h)].norm());
-                        difference = difference
-                            .max((forces.haskind[(j, h)] - forces.direct[(j, h)]).norm());
+                        difference =
+                            difference.max((forces.haskind[(j, h)] - forces.direct[(j, h)]).norm());
                     }
                 }
                 (largest, difference)
@@ -725,6 +762,54 @@ mod tests {
             let err = log_grid(min, max, count).unwrap_err();
             assert!(err.to_string().contains("kR"), "{err}");
         }
+    }
+
+    #[test]
+    fn the_excitation_table_has_every_frequency_heading_and_dof() {
+        let hull = Hull::semicircle(2.0).unwrap();
+        let params = SweepParams {
+            kr: vec![0.5, 1.5],
+            panels: PanelParams {
+                body_panels: 32,
+                ..PanelParams::default()
+            },
+            ..SweepParams::default()
+        };
+        let result = run(&hull, &params, &|_, _| {}).unwrap();
+        let mut text = Vec::new();
+        result
+            .write_excitation_csv(&mut text, ExcitationPart::Total)
+            .unwrap();
+        let text = String::from_utf8(text).unwrap();
+        assert!(text.contains("# modes: sway heave roll cb1 cb2 cb3 cb4 cb5 cb6\n"));
+        assert!(text.contains("# R: 2 m\n"));
+        assert!(text.contains("# length exponents: 0 0 1 0 0 1 0 0 1\n"));
+        let rows: Vec<Vec<&str>> = text
+            .lines()
+            .skip_while(|l| *l != "kR,j,heading,re,im")
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
+        // (the kR = 0 limit + 2 frequencies) x 2 headings x 9 DOFs.
+        assert_eq!(rows.len(), 3 * 2 * 9);
+        // Heave's long-wave limit: integral n_y ds / R^(1 + 0) = 2R / R = 2.
+        let heave_limit: f64 = rows[1][3].parse().unwrap();
+        assert!((heave_limit - 2.0).abs() < 1e-12);
+        assert_eq!(rows[9][2], "180");
+        // A frequency row reads back as the direct value over R^(1 + e_j) (roll: R^2).
+        let row = &rows[2 * 9 + 1];
+        assert_eq!((row[0], row[1], row[2]), ("5e-1", "2", "0"));
+        let stored = result.excitation[0].direct[(1, 0)];
+        assert_eq!(row[3].parse::<f64>().unwrap(), stored.re);
+        assert_eq!(row[4].parse::<f64>().unwrap(), stored.im);
+        // The Froude-Krylov table is a different force in the same layout.
+        let mut fk = Vec::new();
+        result
+            .write_excitation_csv(&mut fk, ExcitationPart::FroudeKrylov)
+            .unwrap();
+        let fk = String::from_utf8(fk).unwrap();
+        assert_eq!(fk.lines().count(), text.lines().count() - 1);
+        assert!(fk.contains("Froude-Krylov part"));
     }
 
     #[test]
