@@ -1,5 +1,6 @@
 //! Benchmarks of the hydrodynamic pipeline: one radiation solve, and the full default sweep of
-//! the semicircle (9 DOFs, kR = 0.01 .. 10, 201 points) on 1 and 2 threads.
+//! the semicircle (9 DOFs, kR = 0.01 .. 10, 201 points) on 1 and 2 threads, with and without
+//! the exciting forces.
 //!
 //! ```sh
 //! cargo bench --bench sweep
@@ -41,6 +42,14 @@ fn full_sweep(c: &mut Criterion) {
             b.iter(|| sweep::run(black_box(&hull), &params, &|_, _| {}).unwrap())
         });
     }
+    // The exciting forces' share of the sweep, measured in the same run.
+    let radiation_only = SweepParams {
+        excitation: false,
+        ..SweepParams::default()
+    };
+    group.bench_function("2 threads, radiation only", |b| {
+        b.iter(|| sweep::run(black_box(&hull), &radiation_only, &|_, _| {}).unwrap())
+    });
     group.finish();
 }
 

@@ -65,6 +65,7 @@ fn run_sweep(
         irregular_frequencies: irregular,
         extrapolation_levels: levels,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        excitation: true,
     };
     sweep::run(&case.hull, &params, &|_, _| {}).expect("sweep")
 }

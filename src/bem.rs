@@ -261,7 +261,8 @@ impl Problem {
         &self.mesh
     }
 
-    /// Solves the radiation problem of every DOF for `surface`.
+    /// Solves the radiation problem of every DOF for `surface`, and at a wave frequency the
+    /// two diffraction problems ([`WaveForces`]).
     ///
     /// # Errors
     /// As [`solve`].
@@ -269,6 +270,20 @@ impl Problem {
         &self,
         surface: FreeSurface,
         irregular: IrregularFrequencies,
+    ) -> Result<RadiationSolution, BemError> {
+        self.solve_with(surface, irregular, true)
+    }
+
+    /// As [`Problem::solve`]; `excitation = false` leaves the diffraction problems out
+    /// (`wave_forces` is then `None`), for a caller that needs the added mass only.
+    ///
+    /// # Errors
+    /// As [`solve`].
+    pub fn solve_with(
+        &self,
+        surface: FreeSurface,
+        irregular: IrregularFrequencies,
+        excitation: bool,
     ) -> Result<RadiationSolution, BemError> {
         let mesh = &self.mesh;
         let green = GreenFunction::new(surface)?;
@@ -303,7 +318,7 @@ impl Problem {
         };
         let influence_time = start.elapsed();
         let wavenumber = match surface {
-            FreeSurface::Wave { wavenumber } => Some(wavenumber),
+            FreeSurface::Wave { wavenumber } if excitation => Some(wavenumber),
             _ => None,
         };
         solve_system(

@@ -45,6 +45,9 @@ pub struct SweepParams {
     pub extrapolation_levels: usize,
     /// Worker threads (explicit; no global pool is touched). Default 2.
     pub threads: usize,
+    /// Also solve the diffraction problems for the exciting forces (two more right-hand sides
+    /// per solve: about 10 % of the sweep time, docs/PERFORMANCE.md). Default true.
+    pub excitation: bool,
 }
 
 impl Default for SweepParams {
@@ -55,6 +58,7 @@ impl Default for SweepParams {
             irregular_frequencies: IrregularFrequencies::RemoveWithLid,
             extrapolation_levels: 3,
             threads: 2,
+            excitation: true,
         }
     }
 }
@@ -162,8 +166,9 @@ impl Solver {
         table.swap_remove(0)
     }
 
-    /// `A~ / rho` for `surface`, extrapolated, with the reciprocity residual of the finest
-    /// solve and the stage times summed over the levels.
+    /// `A~ / rho` (and at a wave frequency the exciting forces) for `surface`, extrapolated,
+    /// with the reciprocity residual of the finest solve and the stage times summed over the
+    /// levels.
     ///
     /// # Errors
     /// A failure at any level.
@@ -172,9 +177,22 @@ impl Solver {
         surface: FreeSurface,
         irregular: IrregularFrequencies,
     ) -> Result<RadiationSolution, BemError> {
+        self.solve_with(surface, irregular, true)
+    }
+
+    /// As [`Solver::solve`]; `excitation = false` leaves the exciting forces out.
+    ///
+    /// # Errors
+    /// A failure at any level.
+    pub fn solve_with(
+        &self,
+        surface: FreeSurface,
+        irregular: IrregularFrequencies,
+        excitation: bool,
+    ) -> Result<RadiationSolution, BemError> {
         let mut solutions = Vec::with_capacity(self.problems.len());
         for problem in &self.problems {
-            solutions.push(problem.solve(surface, irregular)?);
+            solutions.push(problem.solve_with(surface, irregular, excitation)?);
         }
         let h: Vec<f64> = self
             .problems
@@ -405,7 +423,7 @@ pub fn run(
         let surface = FreeSurface::Wave {
             wavenumber: units::wavenumber_from_kr(kr, radius),
         };
-        solver.solve(surface, params.irregular_frequencies)
+        solver.solve_with(surface, params.irregular_frequencies, params.excitation)
     };
     let solutions = solve_all(&pool, &params.kr, &solve_at, progress);
     let total = params.kr.len();
@@ -444,7 +462,7 @@ pub fn run(
         match solution {
             Ok(RadiationSolution {
                 wave_forces: None, ..
-            }) => result
+            }) if params.excitation => result
                 .failures
                 .push((kr, "the solve gave no exciting force".to_string())),
             Ok(solution) => {

@@ -64,6 +64,7 @@ impl HullSweepArgs {
             },
             extrapolation_levels: self.levels,
             threads: self.threads,
+            excitation: true,
         };
         Ok((hull, params))
     }
@@ -128,7 +129,9 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
-    let (hull, params) = args.sweep.resolve()?;
+    let (hull, mut params) = args.sweep.resolve()?;
+    // The diffraction problems only when a table asks for them.
+    params.excitation = args.excitation.is_some() || args.froude_krylov.is_some();
     let scene = Scene {
         sweep: params,
         ..Scene::new(hull)
