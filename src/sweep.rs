@@ -595,6 +595,44 @@ pub enum ExcitationPart {
 }
 
 impl SweepResult {
+    /// The same sweep restricted to the DOFs `names`, in that order (for the table of an FMU
+    /// that models only some of the hull's DOFs). `None` if a name is not in the sweep.
+    pub fn select_dofs(&self, names: &[&str]) -> Option<SweepResult> {
+        let index: Vec<usize> = names
+            .iter()
+            .map(|name| self.dof_names.iter().position(|d| d == name))
+            .collect::<Option<_>>()?;
+        let n = index.len();
+        let square =
+            |m: &DMatrix<Complex64>| DMatrix::from_fn(n, n, |i, j| m[(index[i], index[j])]);
+        let rows = |m: &DMatrix<Complex64>| DMatrix::from_fn(n, m.ncols(), |i, h| m[(index[i], h)]);
+        Some(SweepResult {
+            dof_names: index.iter().map(|&i| self.dof_names[i].clone()).collect(),
+            added_mass: self.added_mass.iter().map(square).collect(),
+            added_mass_inf: DMatrix::from_fn(n, n, |i, j| {
+                self.added_mass_inf[(index[i], index[j])]
+            }),
+            added_mass_zero: DMatrix::from_fn(n, n, |i, j| {
+                self.added_mass_zero[(index[i], index[j])]
+            }),
+            length_exponents: index.iter().map(|&i| self.length_exponents[i]).collect(),
+            excitation: self
+                .excitation
+                .iter()
+                .map(|w| WaveForces {
+                    haskind: rows(&w.haskind),
+                    direct: rows(&w.direct),
+                    froude_krylov: rows(&w.froude_krylov),
+                })
+                .collect(),
+            excitation_long_wave: index
+                .iter()
+                .map(|&i| self.excitation_long_wave[i])
+                .collect(),
+            ..self.clone()
+        })
+    }
+
     /// For each DOF, the largest `|Haskind - direct|` over the sweep relative to the largest
     /// direct `|X_j|` (the two exciting-force methods share the mesh but not the right-hand
     /// side, so their difference measures the solver's accuracy). 0 for a DOF that waves do not excite
@@ -820,6 +858,19 @@ mod tests {
         let stored = result.excitation[0].direct[(1, 0)];
         assert_eq!(row[3].parse::<f64>().unwrap(), stored.re);
         assert_eq!(row[4].parse::<f64>().unwrap(), stored.im);
+        // A selection keeps its DOFs' rows, in the order asked for.
+        let picked = result.select_dofs(&["heave", "sway"]).unwrap();
+        assert_eq!(picked.dof_names, ["heave", "sway"]);
+        assert_eq!(
+            picked.excitation[1].direct[(0, 1)],
+            result.excitation[1].direct[(1, 1)]
+        );
+        assert_eq!(picked.added_mass[0][(0, 1)], result.added_mass[0][(1, 0)]);
+        assert_eq!(
+            picked.excitation_long_wave,
+            [2.0 * 2.0 / 2.0, 0.0].map(|x| x + 0.0)
+        );
+        assert!(result.select_dofs(&["pitch"]).is_none());
         // The Froude-Krylov table is a different force in the same layout.
         let mut fk = Vec::new();
         result
