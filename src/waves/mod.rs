@@ -40,7 +40,7 @@ pub use table::{
 use std::fmt;
 
 /// Default number of JONSWAP components (chosen from `benches/waves.rs`, `docs/WAVES.md`).
-pub const DEFAULT_COMPONENTS: usize = 200;
+pub const DEFAULT_COMPONENTS: usize = 64;
 
 /// Largest number of JONSWAP components accepted.
 pub const MAX_COMPONENTS: usize = 10_000;
