@@ -48,6 +48,7 @@ pub mod realize;
 pub mod scene;
 pub mod sweep;
 pub mod units;
+pub mod waves;
 pub mod xml;
 
 pub use bem::BemError;
