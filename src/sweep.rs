@@ -858,6 +858,17 @@ mod tests {
         let stored = result.excitation[0].direct[(1, 0)];
         assert_eq!(row[3].parse::<f64>().unwrap(), stored.re);
         assert_eq!(row[4].parse::<f64>().unwrap(), stored.im);
+        // The wave model reads it back: same modes, radius, exponents and values.
+        let table = crate::waves::ExcitationTable::from_csv_str(&text, "table").unwrap();
+        assert_eq!(table.modes(), result.dof_names.as_slice());
+        assert_eq!(table.radius(), 2.0);
+        assert_eq!(table.length_exponents(), [0, 0, 1, 0, 0, 1, 0, 0, 1]);
+        assert!(table.has_long_wave_rows());
+        let heading = table.heading_index(180.0).unwrap();
+        assert_eq!(
+            table.value(5, heading, 2),
+            Some(result.excitation[1].direct[(5, 1)])
+        );
         // A selection keeps its DOFs' rows, in the order asked for.
         let picked = result.select_dofs(&["heave", "sway"]).unwrap();
         assert_eq!(picked.dof_names, ["heave", "sway"]);
