@@ -46,7 +46,8 @@ pub struct SweepParams {
     /// Worker threads (explicit; no global pool is touched). Default 2.
     pub threads: usize,
     /// Also solve the diffraction problems for the exciting forces (two more right-hand sides
-    /// per solve: about 10 % of the sweep time, docs/PERFORMANCE.md). Default true.
+    /// per solve; their cost is within the run-to-run noise of the sweep time,
+    /// docs/BENCHMARKS.md). Default true.
     pub excitation: bool,
 }
 
