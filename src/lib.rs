@@ -22,6 +22,10 @@
 //! - [`discretize`]: the exact step over one communication interval (input held or ramped);
 //! - [`model`]: the component that steps in time ([`Model`], [`ModelOptions`]).
 //!
+//! Beside the chain: [`hydrostatics`] gives the linear restoring of every DOF
+//! ([`Hydrostatics`]), and [`waves`] the incident sea and its exciting force in the time domain,
+//! from the exciting forces the sweep computes with the added mass.
+//!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
 //! [`SceneReport`]). [`fmu`] (variables, model description, resources, GUID) and [`fmi2`] (the
 //! exported C functions) make the FMU. [`units`] and [`xml`] support every stage.
@@ -39,6 +43,7 @@ pub mod fmi2;
 pub mod fmu;
 pub mod green;
 pub mod hull;
+pub mod hydrostatics;
 pub mod identify;
 pub mod model;
 pub mod network;
@@ -56,6 +61,7 @@ pub use discretize::DiscretizeError;
 pub use fmu::{Resources, ResourcesError, VariablesError};
 pub use green::GreenError;
 pub use hull::{Hull, HullError};
+pub use hydrostatics::{Hydrostatics, HydrostaticsError};
 pub use identify::{FitParams, FitReport, FrequencyResponse, IdentifyError};
 pub use model::{Model, ModelError, ModelOptions};
 pub use network::{Branch, Network, NetworkError, NetworkForm, Stage};
