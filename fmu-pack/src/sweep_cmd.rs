@@ -87,6 +87,40 @@ pub struct SweepArgs {
     /// Also write the Froude-Krylov part of the exciting force alone, in the same format.
     #[arg(long = "froude-krylov", value_name = "FILE.csv")]
     pub froude_krylov: Option<PathBuf>,
+    /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
+    /// `i,j,value` in SI per unit length.
+    #[arg(long, value_name = "FILE.csv")]
+    pub hydrostatics: Option<PathBuf>,
+}
+
+/// The hydrostatic restoring table: header comments, then `i,j,value` with
+/// `value = C_ij / (rho g)` (m, m^2, m^3 for `e_i + e_j = 0, 1, 2`).
+pub fn hydrostatics_csv(hull: &Hull) -> Result<String, String> {
+    let h = hydrofmu::hydrostatics::stiffness(hull).map_err(|e| e.to_string())?;
+    let mut out = String::new();
+    out.push_str(&format!("# hull: {}\n", hull.name()));
+    out.push_str(&format!("# modes: {}\n", hull.dof_names().join(" ")));
+    out.push_str(&format!(
+        "# waterline breadth: {} m; submerged area: {} m2; centre of buoyancy: ({}, {}) m\n",
+        h.waterline_breadth, h.submerged_area, h.centre_of_buoyancy[0], h.centre_of_buoyancy[1]
+    ));
+    out.push_str(
+        "# values: C_ij / (rho g), per unit length; rigid DOFs: buoyancy part of the rigid \
+         motion; elastic DOFs: pressure stiffness. The structural model adds the initial stress \
+         of the pre-loaded shell and the weight's restoring -m g z_G (docs/HYDROSTATICS.md).\n",
+    );
+    for note in &h.notes {
+        out.push_str(&format!("# note: {note}\n"));
+    }
+    out.push_str("i,j,value\n");
+    let c = &h.stiffness_per_rho_g;
+    for i in 0..c.nrows() {
+        for j in 0..c.ncols() {
+            // + 0.0: a zero entry prints as 0, not -0.
+            out.push_str(&format!("{},{},{:e}\n", i + 1, j + 1, c[(i, j)] + 0.0));
+        }
+    }
+    Ok(out)
 }
 
 /// Writes `text` to `path` (`-`: standard output).
@@ -134,7 +168,7 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     params.excitation = args.excitation.is_some() || args.froude_krylov.is_some();
     let scene = Scene {
         sweep: params,
-        ..Scene::new(hull)
+        ..Scene::new(hull.clone())
     };
     let progress = Progress::new("sweep");
     let start = Instant::now();
@@ -147,6 +181,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         .write_csv(&mut text)
         .map_err(|e| format!("cannot format the table: {e}"))?;
     write_output(&args.output, &text)?;
+    if let Some(path) = &args.hydrostatics {
+        write_output(path, hydrostatics_csv(&hull)?.as_bytes())?;
+    }
     for (path, part) in [
         (&args.excitation, ExcitationPart::Total),
         (&args.froude_krylov, ExcitationPart::FroudeKrylov),
@@ -201,4 +238,26 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hydrostatics_table_lists_every_entry() {
+        let hull = Hull::semicircle(2.0).unwrap();
+        let text = hydrostatics_csv(&hull).unwrap();
+        assert!(text.contains("# modes: sway heave roll cb1 cb2 cb3 cb4 cb5 cb6\n"));
+        let rows: Vec<&str> = text
+            .lines()
+            .skip_while(|l| *l != "i,j,value")
+            .skip(1)
+            .collect();
+        assert_eq!(rows.len(), 81);
+        // Heave: rho g B with B = 2R = 4 m.
+        let heave: f64 = rows[10].split(',').nth(2).unwrap().parse().unwrap();
+        assert!((heave - 4.0).abs() < 1e-12, "{}", rows[10]);
+        assert!(rows[0].starts_with("1,1,0e0"));
+    }
 }

@@ -84,3 +84,55 @@ fn bad_parameters_get_clear_errors() {
         );
     }
 }
+
+#[test]
+fn sweep_writes_the_excitation_froude_krylov_and_hydrostatics_tables() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-sweep-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        "semicircle",
+        "--panels",
+        "32",
+        "--kr",
+        "0.5:1:3",
+        "--dofs",
+        "sway,heave",
+        "-o",
+        &path("added_mass.csv"),
+        "--excitation",
+        &path("excitation.csv"),
+        "--froude-krylov",
+        &path("fk.csv"),
+        "--hydrostatics",
+        &path("hydrostatics.csv"),
+    ]);
+    assert!(ok, "{err}");
+    assert!(err.contains("Haskind relation agrees to"), "{err}");
+    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+    let rows = |text: &str| -> Vec<Vec<String>> {
+        text.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("kR") && !l.starts_with("i,"))
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect()
+    };
+    // (kR = 0 + 3 frequencies) x 2 headings x 2 DOFs in both force tables.
+    for name in ["excitation.csv", "fk.csv"] {
+        let text = read(name);
+        assert!(text.lines().any(|l| l == "kR,j,heading,re,im"), "{name}");
+        assert_eq!(rows(&text).len(), 16, "{name}");
+    }
+    // The total differs from its Froude-Krylov part at a wave frequency.
+    let (total, fk) = (rows(&read("excitation.csv")), rows(&read("fk.csv")));
+    assert_ne!(total[5][3], fk[5][3]);
+    // Hydrostatics: heave-heave 2R, sway row 0.
+    let c = rows(&read("hydrostatics.csv"));
+    assert_eq!(c.len(), 4);
+    assert!(
+        (c[3][2].parse::<f64>().unwrap() - 2.0).abs() < 1e-12,
+        "{c:?}"
+    );
+    assert_eq!(c[0][2], "0e0");
+    std::fs::remove_dir_all(&dir).ok();
+}
