@@ -77,8 +77,6 @@ pub struct Hydrostatics {
     pub submerged_area: f64,
     /// Centroid of the submerged area (m).
     pub centre_of_buoyancy: [f64; 2],
-    /// Notes on assumptions (a mode without tangential displacement).
-    pub notes: Vec<String>,
 }
 
 impl Hydrostatics {
@@ -147,7 +145,6 @@ pub fn stiffness(hull: &Hull) -> Result<Hydrostatics, HydrostaticsError> {
         waterline_breadth: section.breadth,
         submerged_area: section.area,
         centre_of_buoyancy: section.centroid,
-        notes: Vec::new(),
     })
 }
 
@@ -203,13 +200,12 @@ impl Section {
                 let c = a.1;
                 self.waterline_moment(c[0], 2) + self.area * (self.centroid[1] - c[1])
             }
-            // Two rolls about different points: roll about c2 = roll about c1 plus a
-            // translation, so the entry follows from the linear combination.
+            // Two rolls about different points c1 (row) and c2 (column): the field of roll
+            // about c2 is roll about c1 plus (y2 - y1) sway + (x1 - x2) heave, and the entry
+            // is that combination of the row's entries (sway's is 0).
             (Roll, Roll) => {
                 let (c1, c2) = (a.1, b.1);
-                // u_roll(c2) = u_roll(c1) + (c1 - c2) x e_z terms: (y2 - y1) sway - (x2 - x1) heave.
-                let base = self.rigid(a, a);
-                base - (c2[0] - c1[0]) * self.waterline_moment(c1[0], 1)
+                self.rigid(a, a) + (c1[0] - c2[0]) * self.waterline_moment(c1[0], 1)
             }
         }
     }

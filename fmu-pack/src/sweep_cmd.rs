@@ -109,9 +109,6 @@ pub fn hydrostatics_csv(hull: &Hull) -> Result<String, String> {
          motion; elastic DOFs: pressure stiffness. The structural model adds the initial stress \
          of the pre-loaded shell and the weight's restoring -m g z_G (docs/HYDROSTATICS.md).\n",
     );
-    for note in &h.notes {
-        out.push_str(&format!("# note: {note}\n"));
-    }
     out.push_str("i,j,value\n");
     let c = &h.stiffness_per_rho_g;
     for i in 0..c.nrows() {
