@@ -34,8 +34,13 @@ struct Variable {
     causality: String,
     variability: String,
     description: String,
+    /// `<Integer>` rather than `<Real>`.
+    integer: bool,
     start: f64,
     min: f64,
+    /// Largest accepted value (`<Integer max>`; unbounded for Reals).
+    max: f64,
+    /// Unit name (empty for Integers, which have none in FMI 2.0).
     unit: String,
     line: usize,
 }
@@ -123,9 +128,13 @@ fn generate(text: &str) -> String {
                 default_experiment = Some((start, stop, step));
             }
             "ScalarVariable" => open_variable = Some(element),
-            "Real" => {
+            "Real" | "Integer" => {
+                let integer = element.name == "Integer";
                 let Some(variable) = open_variable.take() else {
-                    fail(line, "<Real> outside a <ScalarVariable>");
+                    fail(
+                        line,
+                        &format!("<{}> outside a <ScalarVariable>", element.name),
+                    );
                 };
                 let field = |key: &str| check(variable.required(key));
                 let value_reference = field("valueReference").parse::<u32>().unwrap_or_else(|_| {
@@ -133,8 +142,16 @@ fn generate(text: &str) -> String {
                 });
                 let start = number("start");
                 let min = number("min");
-                if start < min {
-                    fail(line, &format!("start {start} is below min {min}"));
+                let max = if integer {
+                    number("max")
+                } else {
+                    f64::INFINITY
+                };
+                if start < min || start > max {
+                    fail(line, &format!("start {start} is outside [{min}, {max}]"));
+                }
+                if integer && [start, min, max].iter().any(|x| x.fract() != 0.0) {
+                    fail(line, "an <Integer>'s start, min and max must be integers");
                 }
                 variables.push(Variable {
                     name: field("name").to_string(),
@@ -142,9 +159,15 @@ fn generate(text: &str) -> String {
                     causality: field("causality").to_string(),
                     variability: field("variability").to_string(),
                     description: field("description").to_string(),
+                    integer,
                     start,
                     min,
-                    unit: get("unit").to_string(),
+                    max,
+                    unit: if integer {
+                        String::new()
+                    } else {
+                        get("unit").to_string()
+                    },
                     line,
                 });
             }
@@ -176,7 +199,7 @@ fn generate(text: &str) -> String {
                 &format!("fixed variables need valueReference < {FIRST_PER_HULL_REFERENCE}"),
             );
         }
-        if !units.contains(&variable.unit) {
+        if !variable.integer && !units.contains(&variable.unit) {
             fail(
                 variable.line,
                 &format!(
@@ -265,8 +288,10 @@ fn generate(text: &str) -> String {
     for v in &variables {
         let _ = writeln!(
             out,
-            "    FixedParameter {{ name: {:?}, value_reference: {}, start: {:?}, min: {:?}, unit: {:?}, description: {:?} }},",
-            v.name, v.value_reference, v.start, v.min, v.unit, v.description
+            "    FixedParameter {{ name: {:?}, value_reference: {}, integer: {}, start: {:?}, min: {:?}, max: {}, unit: {:?}, description: {:?} }},",
+            v.name, v.value_reference, v.integer, v.start, v.min,
+            if v.max.is_finite() { format!("{:?}", v.max) } else { "f64::INFINITY".into() },
+            v.unit, v.description
         );
     }
     let _ = writeln!(out, "];");
@@ -275,16 +300,21 @@ fn generate(text: &str) -> String {
         let _ = writeln!(
             out,
             "pub const VR_{}: u32 = {};",
-            v.name.to_uppercase(),
+            constant_name(&v.name),
             v.value_reference
         );
         let _ = writeln!(out, "/// Default of `{}` ({}).", v.name, v.unit);
         let _ = writeln!(
             out,
             "pub const DEFAULT_{}: f64 = {:?};",
-            v.name.to_uppercase(),
+            constant_name(&v.name),
             v.start
         );
     }
     out
+}
+
+/// `wave.kind` -> `WAVE_KIND`: the constant names of a variable.
+fn constant_name(name: &str) -> String {
+    name.to_uppercase().replace('.', "_")
 }

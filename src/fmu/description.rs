@@ -22,10 +22,14 @@ pub struct FixedParameter {
     pub name: &'static str,
     /// FMI value reference.
     pub value_reference: u32,
+    /// An `Integer` variable (else `Real`).
+    pub integer: bool,
     /// Default value.
     pub start: f64,
     /// Smallest accepted value.
     pub min: f64,
+    /// Largest accepted value (infinite when unbounded).
+    pub max: f64,
     /// Unit name, declared in the unit definitions.
     pub unit: &'static str,
     /// Human-readable description.
@@ -326,7 +330,14 @@ mod tests {
         assert!(PARAMETERS
             .iter()
             .all(|p| p.value_reference < FIRST_PER_HULL_REFERENCE));
-        assert!(PARAMETERS.iter().all(|p| UNITS.contains(&p.unit)));
+        assert!(PARAMETERS.iter().all(|p| if p.integer {
+            p.unit.is_empty()
+        } else {
+            UNITS.contains(&p.unit)
+        }));
+        assert!(PARAMETERS
+            .iter()
+            .all(|p| p.min <= p.start && p.start <= p.max));
     }
 
     #[test]
@@ -421,8 +432,8 @@ mod tests {
         for (index, _) in &outputs {
             assert_eq!(causalities[index - 1], "output");
         }
-        // force.sway (index 7: rho g v v f f) depends on velocity.sway (3) through damping
-        // and on both accelerations (A_inf unknown: all).
+        // force.sway depends on velocity.sway (after the 10 fixed parameters: index 11)
+        // through damping and on both accelerations (A_inf unknown: all).
         let force_sway = outputs
             .iter()
             .find(|o| names[o.0 - 1] == "force.sway")
@@ -433,7 +444,8 @@ mod tests {
             .filter(|(_, n)| n.starts_with("acceleration."))
             .map(|(i, _)| i + 1)
             .collect();
-        assert_eq!(force_sway.1, format!("3 {} {}", acc[0], acc[1]));
+        let fixed = PARAMETERS.len();
+        assert_eq!(force_sway.1, format!("{} {} {}", fixed + 1, acc[0], acc[1]));
         let calculated = causalities
             .iter()
             .filter(|c| *c == "calculatedParameter")

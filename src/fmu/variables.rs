@@ -22,7 +22,10 @@
 //! [`Layout::model_description`] ([`crate::fmu::description`]) writes the complete
 //! `modelDescription.xml` from these variables.
 
-use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, PARAMETERS, VR_G, VR_RHO};
+use crate::fmu::description::{
+    FIRST_PER_HULL_REFERENCE, PARAMETERS, VR_G, VR_RHO, VR_WAVE_COMPONENTS, VR_WAVE_GAMMA,
+    VR_WAVE_HEADING, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_PERIOD, VR_WAVE_RAMP, VR_WAVE_SEED,
+};
 use crate::fmu::units::{added_mass_unit, damping_unit, DofUnit};
 use std::fmt;
 
@@ -99,6 +102,41 @@ impl fmt::Display for VariablesError {
 
 impl std::error::Error for VariablesError {}
 
+/// A parameter of the incident waves (fixed, declared in `modelDescription/fixed.xml`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WaveParameter {
+    /// `wave.kind` (Integer): 0 calm, 1 regular, 2 JONSWAP.
+    Kind,
+    /// `wave.height` (m).
+    Height,
+    /// `wave.period` (s).
+    Period,
+    /// `wave.heading` (deg).
+    Heading,
+    /// `wave.gamma`.
+    Gamma,
+    /// `wave.seed` (Integer).
+    Seed,
+    /// `wave.components` (Integer).
+    Components,
+    /// `wave.ramp` (s).
+    Ramp,
+}
+
+impl WaveParameter {
+    /// Every wave parameter with its value reference.
+    pub const ALL: [(WaveParameter, u32); 8] = [
+        (WaveParameter::Kind, VR_WAVE_KIND),
+        (WaveParameter::Height, VR_WAVE_HEIGHT),
+        (WaveParameter::Period, VR_WAVE_PERIOD),
+        (WaveParameter::Heading, VR_WAVE_HEADING),
+        (WaveParameter::Gamma, VR_WAVE_GAMMA),
+        (WaveParameter::Seed, VR_WAVE_SEED),
+        (WaveParameter::Components, VR_WAVE_COMPONENTS),
+        (WaveParameter::Ramp, VR_WAVE_RAMP),
+    ];
+}
+
 /// What a variable is. Indices are 0-based DOF indices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Quantity {
@@ -106,6 +144,8 @@ pub enum Quantity {
     Rho,
     /// Gravity (fixed parameter).
     G,
+    /// A wave parameter (fixed parameter).
+    Wave(WaveParameter),
     /// Hull velocity input.
     Velocity(usize),
     /// Force output.
@@ -164,6 +204,8 @@ pub struct Variable {
     pub description: String,
     /// Start value (inputs and parameters).
     pub start: Option<f64>,
+    /// An `Integer` variable (else `Real`).
+    pub integer: bool,
 }
 
 impl Variable {
@@ -182,6 +224,20 @@ pub struct Layout {
     pub(super) dofs: Vec<DofUnit>,
     pub(super) keep_inf_mass: bool,
     pub(super) variables: Vec<Variable>,
+}
+
+/// The fixed parameter of a value reference below [`FIRST_PER_HULL_REFERENCE`].
+fn fixed_quantity(value_reference: u32) -> Option<Quantity> {
+    if value_reference == VR_RHO {
+        return Some(Quantity::Rho);
+    }
+    if value_reference == VR_G {
+        return Some(Quantity::G);
+    }
+    WaveParameter::ALL
+        .iter()
+        .find(|(_, vr)| *vr == value_reference)
+        .map(|(p, _)| Quantity::Wave(*p))
 }
 
 /// A letter, then letters, digits or `_` (DOF names, model identifiers).
@@ -222,11 +278,7 @@ impl Layout {
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
-            let quantity = if p.value_reference == VR_RHO {
-                Quantity::Rho
-            } else if p.value_reference == VR_G {
-                Quantity::G
-            } else {
+            let Some(quantity) = fixed_quantity(p.value_reference) else {
                 continue;
             };
             vars.push(Variable {
@@ -237,6 +289,7 @@ impl Layout {
                 unit: p.unit,
                 description: p.description.to_string(),
                 start: Some(p.start),
+                integer: p.integer,
             });
         }
         let force_note = if keep_inf_mass {
@@ -253,6 +306,7 @@ impl Layout {
                 unit: d.velocity_unit(),
                 description: format!("Hull velocity in DOF {}", d.name),
                 start: Some(0.0),
+                integer: false,
             });
         }
         for (i, d) in layout.dofs.iter().enumerate() {
@@ -267,6 +321,7 @@ impl Layout {
                     d.name, force_note
                 ),
                 start: None,
+                integer: false,
             });
         }
         vars.push(Variable {
@@ -277,6 +332,7 @@ impl Layout {
             unit: "W/m",
             description: "Power the hull delivers to the water, -force . velocity".into(),
             start: None,
+            integer: false,
         });
         vars.push(Variable {
             name: "energy".into(),
@@ -290,6 +346,7 @@ impl Layout {
                 "Energy stored in the equivalent network".into()
             },
             start: None,
+            integer: false,
         });
         for (kind, unit_of) in [
             (0, added_mass_unit as fn(u8) -> &'static str),
@@ -324,6 +381,7 @@ impl Layout {
                         unit: unit_of(sum),
                         description,
                         start: None,
+                        integer: false,
                     });
                 }
             }
@@ -338,11 +396,12 @@ impl Layout {
                     unit: d.acceleration_unit(),
                     description: format!("Hull acceleration in DOF {}", d.name),
                     start: Some(0.0),
+                    integer: false,
                 });
             }
         }
         for v in &mut vars {
-            if !matches!(v.quantity, Quantity::Rho | Quantity::G) {
+            if !matches!(v.quantity, Quantity::Rho | Quantity::G | Quantity::Wave(_)) {
                 v.value_reference = layout
                     .value_reference(v.quantity)
                     .ok_or(VariablesError::MissingValueReference)?;
@@ -385,6 +444,12 @@ impl Layout {
         let offset = match quantity {
             Quantity::Rho => return Some(VR_RHO),
             Quantity::G => return Some(VR_G),
+            Quantity::Wave(w) => {
+                return WaveParameter::ALL
+                    .iter()
+                    .find(|(p, _)| *p == w)
+                    .map(|(_, vr)| *vr)
+            }
             Quantity::Velocity(i) if i < n => i,
             Quantity::Force(i) if i < n => n + i,
             Quantity::Power => 2 * n,
@@ -399,11 +464,8 @@ impl Layout {
 
     /// What the value reference refers to (constant time).
     pub fn quantity(&self, value_reference: u32) -> Option<Quantity> {
-        if value_reference == VR_RHO {
-            return Some(Quantity::Rho);
-        }
-        if value_reference == VR_G {
-            return Some(Quantity::G);
+        if value_reference < FIRST_PER_HULL_REFERENCE {
+            return fixed_quantity(value_reference);
         }
         let n = self.dofs.len();
         let k = (value_reference as usize).checked_sub(FIRST_PER_HULL_REFERENCE as usize)?;
@@ -462,12 +524,17 @@ mod tests {
                 assert_eq!(layout.quantity(v.value_reference), Some(v.quantity));
             }
             let n = 9;
-            let expected = 2 + 2 * n + 2 + 2 * n * n + if keep { n } else { 0 };
+            let fixed = crate::fmu::description::PARAMETERS.len();
+            let expected = fixed + 2 * n + 2 + 2 * n * n + if keep { n } else { 0 };
             assert_eq!(layout.variables().len(), expected);
             // One past the last per-hull reference is unknown.
             let last = layout.variables().iter().map(|v| v.value_reference).max();
             assert_eq!(layout.quantity(last.unwrap() + 1), None);
-            assert_eq!(layout.quantity(2), None);
+            assert_eq!(layout.quantity(10), None);
+            assert_eq!(
+                layout.quantity(2),
+                Some(Quantity::Wave(WaveParameter::Kind))
+            );
         }
         // Keeping A_inf does not move the other references.
         let a = Layout::new(nine(), false).unwrap();
@@ -500,8 +567,9 @@ mod tests {
         assert_eq!(unit("damping_direct[3,1]"), "N.s/m");
         assert_eq!(unit("damping_direct[9,9]"), "N.s");
         let elastic = Layout::new(vec![DofUnit::new("bend", 1, false)], false).unwrap();
-        assert_eq!(elastic.variables()[2].unit, "1/s");
-        for v in layout.variables() {
+        let fixed = crate::fmu::description::PARAMETERS.len();
+        assert_eq!(elastic.variables()[fixed].unit, "1/s");
+        for v in layout.variables().iter().filter(|v| !v.integer) {
             assert!(
                 crate::fmu::description::UNITS.contains(&v.unit),
                 "{}",
