@@ -534,7 +534,7 @@ unsafe fn typeless<T>(
     unsafe { call(c, function, body) }
 }
 
-/// No Integer variables: only nvr = 0 succeeds.
+/// Reads Integer variables (the Integer wave parameters).
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetInteger(
     c: fmi2Component,
@@ -542,9 +542,15 @@ pub unsafe extern "C" fn fmi2GetInteger(
     nvr: usize,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
-    let (function, answer) = (Function::GetInteger, Instance::get_integer);
-    // SAFETY: the master passes a component and arrays of nvr entries.
-    unsafe { typeless(c, function, vr, nvr, value.cast_const(), answer) }
+    let body = |inst: &mut Instance| {
+        // SAFETY: the master passes nvr value references.
+        let vr = unsafe { slice(vr, nvr, "vr[]") }?;
+        // SAFETY: the master passes room for nvr values.
+        let value = unsafe { slice_mut(value, nvr, "value[]") }?;
+        Ok(inst.get_integer(vr, value))
+    };
+    // SAFETY: the master passes a component from fmi2Instantiate.
+    unsafe { call(c, Function::GetInteger, body) }
 }
 
 /// No Boolean variables: only nvr = 0 succeeds.
@@ -573,7 +579,8 @@ pub unsafe extern "C" fn fmi2GetString(
     unsafe { typeless(c, function, vr, nvr, value.cast_const(), answer) }
 }
 
-/// No Integer variables: only nvr = 0 succeeds.
+/// Sets Integer variables (the Integer wave parameters, before initialization ends). All
+/// values are checked before any is applied.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetInteger(
     c: fmi2Component,
@@ -581,9 +588,15 @@ pub unsafe extern "C" fn fmi2SetInteger(
     nvr: usize,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    let (function, answer) = (Function::SetInteger, Instance::set_integer);
-    // SAFETY: the master passes a component and arrays of nvr entries.
-    unsafe { typeless(c, function, vr, nvr, value, answer) }
+    let body = |inst: &mut Instance| {
+        // SAFETY: the master passes nvr value references.
+        let vr = unsafe { slice(vr, nvr, "vr[]") }?;
+        // SAFETY: the master passes nvr values.
+        let value = unsafe { slice(value, nvr, "value[]") }?;
+        Ok(inst.set_integer(vr, value))
+    };
+    // SAFETY: the master passes a component from fmi2Instantiate.
+    unsafe { call(c, Function::SetInteger, body) }
 }
 
 /// No Boolean variables: only nvr = 0 succeeds.

@@ -352,16 +352,23 @@ impl Instance {
             same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
             let before_init = matches!(inst.phase, Phase::Instantiated | Phase::InitializationMode);
             let (mut rho, mut g) = (inst.model.state().rho, inst.model.state().g);
-            let mut parameters = false;
+            let (mut parameters, mut waves) = (false, false);
             for (r, x) in vr.iter().zip(values) {
                 let q = inst.quantity(*r)?;
                 match q {
-                    Quantity::Rho | Quantity::G if !before_init => {
+                    Quantity::Rho | Quantity::G | Quantity::Wave(_) if !before_init => {
                         return Err(format!(
                             "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
                             inst.variable_name(*r)
                         ))
                     }
+                    Quantity::Wave(p) if p.is_integer() => {
+                        return Err(format!(
+                            "{} is an Integer parameter: set it with fmi2SetInteger",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                    Quantity::Wave(_) => waves = true,
                     Quantity::Rho => {
                         rho = *x;
                         parameters = true;
@@ -388,14 +395,26 @@ impl Instance {
                     }
                 }
             }
+            let saved = inst.model.state().waves.clone();
+            if waves {
+                for (r, x) in vr.iter().zip(values) {
+                    if let Quantity::Wave(p) = inst.quantity(*r)? {
+                        if let Err(e) = inst.model.set_wave_real(p, *x) {
+                            inst.model.restore_waves(saved);
+                            return Err(e.to_string());
+                        }
+                    }
+                }
+            }
             if parameters {
-                inst.model
-                    .set_parameters(rho, g)
-                    .map_err(|e| e.to_string())?;
+                if let Err(e) = inst.model.set_parameters(rho, g) {
+                    inst.model.restore_waves(saved);
+                    return Err(e.to_string());
+                }
             }
             for (r, x) in vr.iter().zip(values) {
                 let q = inst.quantity(*r)?;
-                if !matches!(q, Quantity::Rho | Quantity::G) {
+                if !matches!(q, Quantity::Rho | Quantity::G | Quantity::Wave(_)) {
                     inst.model.set_value(q, *x).map_err(|e| e.to_string())?;
                 }
             }
@@ -403,9 +422,26 @@ impl Instance {
         })
     }
 
-    /// fmi2GetInteger: there are no Integer variables, only an empty `vr` succeeds.
-    pub fn get_integer(&mut self, vr: &[fmi2ValueReference]) -> Status {
-        self.run(Function::GetInteger, |_| no_variables("Integer", vr))
+    /// fmi2GetInteger: the Integer wave parameters.
+    pub fn get_integer(&mut self, vr: &[fmi2ValueReference], values: &mut [i32]) -> Status {
+        self.run(Function::GetInteger, |inst| {
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            for (r, out) in vr.iter().zip(values.iter_mut()) {
+                match inst.quantity(*r)? {
+                    Quantity::Wave(p) if p.is_integer() => {
+                        // Integer parameters are stored exactly.
+                        *out = inst.model.wave_parameter(p) as i32;
+                    }
+                    _ => {
+                        return Err(format!(
+                            "{} is not an Integer variable",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                }
+            }
+            Ok(Status::Ok)
+        })
     }
 
     /// fmi2GetBoolean: there are no Boolean variables, only an empty `vr` succeeds.
@@ -418,9 +454,40 @@ impl Instance {
         self.run(Function::GetString, |_| no_variables("String", vr))
     }
 
-    /// fmi2SetInteger: there are no Integer variables, only an empty `vr` succeeds.
-    pub fn set_integer(&mut self, vr: &[fmi2ValueReference]) -> Status {
-        self.run(Function::SetInteger, |_| no_variables("Integer", vr))
+    /// fmi2SetInteger: the Integer wave parameters, before initialization ends. A refused
+    /// call changes nothing.
+    pub fn set_integer(&mut self, vr: &[fmi2ValueReference], values: &[i32]) -> Status {
+        self.run(Function::SetInteger, |inst| {
+            same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
+            let before_init = matches!(inst.phase, Phase::Instantiated | Phase::InitializationMode);
+            for r in vr {
+                match inst.quantity(*r)? {
+                    Quantity::Wave(p) if p.is_integer() && before_init => {}
+                    Quantity::Wave(p) if p.is_integer() => {
+                        return Err(format!(
+                            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                    _ => {
+                        return Err(format!(
+                            "{} is not an Integer parameter",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                }
+            }
+            let saved = inst.model.state().waves.clone();
+            for (r, x) in vr.iter().zip(values) {
+                if let Quantity::Wave(p) = inst.quantity(*r)? {
+                    if let Err(e) = inst.model.set_wave_integer(p, *x) {
+                        inst.model.restore_waves(saved);
+                        return Err(e.to_string());
+                    }
+                }
+            }
+            Ok(Status::Ok)
+        })
     }
 
     /// fmi2SetBoolean: there are no Boolean variables, only an empty `vr` succeeds.

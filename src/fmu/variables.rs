@@ -124,6 +124,14 @@ pub enum WaveParameter {
 }
 
 impl WaveParameter {
+    /// `wave.kind`, `wave.seed` and `wave.components` are Integers, the others Reals.
+    pub fn is_integer(self) -> bool {
+        matches!(
+            self,
+            WaveParameter::Kind | WaveParameter::Seed | WaveParameter::Components
+        )
+    }
+
     /// Every wave parameter with its value reference.
     pub const ALL: [(WaveParameter, u32); 8] = [
         (WaveParameter::Kind, VR_WAVE_KIND),

@@ -45,8 +45,9 @@ pub use system::RadiationSystem;
 use crate::discretize::DiscretizeError;
 use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use crate::fmu::resources::ResourcesError;
-use crate::fmu::variables::Quantity;
+use crate::fmu::variables::{Quantity, WaveParameter};
 use crate::network::{Network, NetworkError};
+use crate::waves::{WaveKind, WaveParams};
 use nalgebra::DVector;
 use outputs::Outputs;
 use std::fmt;
@@ -182,6 +183,8 @@ pub struct ModelState {
     pub acceleration: DVector<f64>,
     /// d(acceleration)/dt set by the master.
     pub acceleration_derivative: DVector<f64>,
+    /// The incident waves (parameters; calm water by default).
+    pub waves: WaveParams,
 }
 
 impl ModelState {
@@ -199,6 +202,7 @@ impl ModelState {
             velocity_derivative: DVector::zeros(dofs),
             acceleration: DVector::zeros(dofs),
             acceleration_derivative: DVector::zeros(dofs),
+            waves: WaveParams::default(),
         }
     }
 
@@ -364,6 +368,87 @@ impl Model {
         self.rebuild(rho, g)?;
         self.state.rho = rho;
         self.state.g = g;
+        Ok(())
+    }
+
+    /// A wave parameter's value (Integer parameters as their exact f64 value).
+    pub fn wave_parameter(&self, parameter: WaveParameter) -> f64 {
+        let w = &self.state.waves;
+        match parameter {
+            WaveParameter::Kind => f64::from(w.kind.code()),
+            WaveParameter::Height => w.height,
+            WaveParameter::Period => w.period,
+            WaveParameter::Heading => w.heading,
+            WaveParameter::Gamma => w.gamma,
+            WaveParameter::Seed => f64::from(w.seed),
+            // At most MAX_COMPONENTS: exact in f64.
+            WaveParameter::Components => w.components as f64,
+            WaveParameter::Ramp => w.ramp,
+        }
+    }
+
+    /// Sets a Real wave parameter; the parameters stay valid (`WaveParams::validate`), else
+    /// nothing changes.
+    pub fn set_wave_real(
+        &mut self,
+        parameter: WaveParameter,
+        value: f64,
+    ) -> Result<(), ModelError> {
+        let mut waves = self.state.waves.clone();
+        match parameter {
+            WaveParameter::Height => waves.height = value,
+            WaveParameter::Period => waves.period = value,
+            WaveParameter::Heading => waves.heading = value,
+            WaveParameter::Gamma => waves.gamma = value,
+            WaveParameter::Ramp => waves.ramp = value,
+            other => {
+                return Err(ModelError::Variable(format!(
+                    "{other:?} is an Integer parameter: set it with fmi2SetInteger"
+                )))
+            }
+        }
+        self.accept_waves(waves)
+    }
+
+    /// Sets an Integer wave parameter; as [`Model::set_wave_real`].
+    pub fn set_wave_integer(
+        &mut self,
+        parameter: WaveParameter,
+        value: i32,
+    ) -> Result<(), ModelError> {
+        let mut waves = self.state.waves.clone();
+        match parameter {
+            WaveParameter::Kind => {
+                waves.kind =
+                    WaveKind::from_code(value).map_err(|e| ModelError::Variable(e.to_string()))?
+            }
+            WaveParameter::Seed => waves.seed = value,
+            WaveParameter::Components => {
+                waves.components = usize::try_from(value).map_err(|_| {
+                    ModelError::Variable(format!("wave.components = {value}: must be at least 1"))
+                })?
+            }
+            other => {
+                return Err(ModelError::Variable(format!(
+                    "{other:?} is a Real parameter: set it with fmi2SetReal"
+                )))
+            }
+        }
+        self.accept_waves(waves)
+    }
+
+    /// Puts back wave parameters saved from [`Model::state`] (they were valid then).
+    pub fn restore_waves(&mut self, waves: WaveParams) {
+        self.state.waves = waves;
+        self.outputs_valid = false;
+    }
+
+    fn accept_waves(&mut self, waves: WaveParams) -> Result<(), ModelError> {
+        waves
+            .validate()
+            .map_err(|e| ModelError::Variable(e.to_string()))?;
+        self.state.waves = waves;
+        self.outputs_valid = false;
         Ok(())
     }
 

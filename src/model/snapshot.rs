@@ -3,15 +3,17 @@
 //! Layout (little-endian): `HYDROFMU`, format version (u32), the owner's tag byte, the GUID
 //! (u32 length + UTF-8), DOFs n and states (u32 each), keep_inf_mass (u8), rho, g, time,
 //! time anchor, last step (f64 each), steps since the anchor (u64), then z, v, v', a, a'
-//! (f64 each), then an FNV-1a 64 checksum of everything before it. A state is accepted only
-//! by a component with the same GUID and dimensions.
+//! (f64 each), the wave parameters (kind, seed, components, height, period, heading, gamma, ramp:
+//! `write_waves`), then an FNV-1a 64 checksum of everything before it. A state is accepted
+//! only by a component with the same GUID and dimensions, and valid wave parameters.
 
 use super::system::check_parameter;
 use super::{Model, ModelError, ModelState};
+use crate::waves::{WaveKind, WaveParams};
 use nalgebra::DVector;
 
 const MAGIC: &[u8; 8] = b"HYDROFMU";
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf29ce484222325u64, |h, b| {
@@ -56,6 +58,41 @@ impl ByteReader<'_> {
     }
 }
 
+/// Bytes of the wave parameters in the state.
+const WAVE_BYTES: usize = 4 + 4 + 4 + 5 * 8;
+
+/// The wave parameters: kind (i32), seed (i32), components (u32), height, period, heading,
+/// gamma, ramp (f64).
+fn write_waves(b: &mut Vec<u8>, w: &WaveParams) {
+    b.extend_from_slice(&w.kind.code().to_le_bytes());
+    b.extend_from_slice(&w.seed.to_le_bytes());
+    // Validated parameters have at most MAX_COMPONENTS components.
+    b.extend_from_slice(&(w.components as u32).to_le_bytes());
+    for x in [w.height, w.period, w.heading, w.gamma, w.ramp] {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+}
+
+/// Reads and validates what `write_waves` wrote.
+fn read_waves(r: &mut ByteReader<'_>) -> Result<WaveParams, ModelError> {
+    let invalid = |e: crate::waves::WaveError| ModelError::State(format!("wave parameters: {e}"));
+    let kind = WaveKind::from_code(r.u32()? as i32).map_err(invalid)?;
+    let seed = r.u32()? as i32;
+    let components = r.u32()? as usize;
+    let waves = WaveParams {
+        kind,
+        seed,
+        components,
+        height: r.f64()?,
+        period: r.f64()?,
+        heading: r.f64()?,
+        gamma: r.f64()?,
+        ramp: r.f64()?,
+    };
+    waves.validate().map_err(invalid)?;
+    Ok(waves)
+}
+
 impl Model {
     /// The state as self-describing bytes; `tag` is kept for the owner (the FMI layer
     /// stores its phase there).
@@ -83,6 +120,7 @@ impl Model {
                 b.extend_from_slice(&x.to_le_bytes());
             }
         }
+        write_waves(&mut b, &s.waves);
         let sum = fnv1a(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -92,7 +130,7 @@ impl Model {
     pub fn serialized_size(&self) -> usize {
         let n = self.dof_count();
         let ns = self.system.state_size();
-        8 + 4 + 1 + 4 + self.guid.len() + 4 + 4 + 1 + 5 * 8 + 8 + 8 * (ns + 4 * n) + 8
+        8 + 4 + 1 + 4 + self.guid.len() + 4 + 4 + 1 + 5 * 8 + 8 + 8 * (ns + 4 * n) + WAVE_BYTES + 8
     }
 
     /// Reads state bytes written by [`Model::serialize`] of an FMU with the same GUID.
@@ -153,6 +191,7 @@ impl Model {
             velocity_derivative: r.vector(n)?,
             acceleration: r.vector(n)?,
             acceleration_derivative: r.vector(n)?,
+            waves: read_waves(&mut r)?,
         };
         if r.at != body.len() {
             return Err(ModelError::State("trailing bytes".into()));

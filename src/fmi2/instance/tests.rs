@@ -77,11 +77,11 @@ fn call(inst: &mut Instance, function: Function, saved: &Snapshot) -> Status {
         Terminate => inst.terminate(),
         Reset => inst.reset(),
         GetReal => inst.get_real(&[], &mut []),
-        GetInteger => inst.get_integer(&[]),
+        GetInteger => inst.get_integer(&[], &mut []),
         GetBoolean => inst.get_boolean(&[]),
         GetString => inst.get_string(&[]),
         SetReal => inst.set_real(&[], &[]),
-        SetInteger => inst.set_integer(&[]),
+        SetInteger => inst.set_integer(&[], &[]),
         SetBoolean => inst.set_boolean(&[]),
         SetString => inst.set_string(&[]),
         GetFmuState => inst.get_fmu_state(&mut None),
@@ -211,7 +211,7 @@ fn a_failed_call_keeps_the_model_state_and_enters_the_error_phase() {
         ("set rho late", |i| i.set_real(&[VR_RHO], &[1.0])),
         ("lengths differ", |i| i.set_real(&[VELOCITY], &[])),
         ("unknown vr", |i| i.get_real(&[99_999], &mut [0.0])),
-        ("integer", |i| i.get_integer(&[VELOCITY])),
+        ("integer", |i| i.get_integer(&[VELOCITY], &mut [0])),
         ("category", |i| i.set_debug_logging(true, &["logNothing"])),
         ("order 2", |i| {
             i.set_real_input_derivatives(&[VELOCITY], &[2], &[1.0])
@@ -439,4 +439,67 @@ fn directional_derivatives_with_respect_to_rho_and_g_match_finite_differences() 
         assert_eq!(status, Status::Ok);
         assert_eq!(exact, expected);
     }
+}
+
+#[test]
+fn wave_parameters_are_set_by_type_before_initialization_ends_and_refusals_change_nothing() {
+    use crate::fmu::description::{
+        VR_WAVE_COMPONENTS, VR_WAVE_HEADING, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_SEED,
+    };
+    let initializing = || {
+        let mut inst = instance(SEED_NETWORK, false);
+        assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+        inst
+    };
+    let mut inst = initializing();
+    // Defaults as declared.
+    let mut ints = [0; 3];
+    assert_eq!(
+        inst.get_integer(&[VR_WAVE_KIND, VR_WAVE_SEED, VR_WAVE_COMPONENTS], &mut ints),
+        Status::Ok
+    );
+    assert_eq!(ints, [0, 1, 64]);
+    assert_eq!(
+        inst.set_integer(&[VR_WAVE_KIND, VR_WAVE_SEED], &[2, -7]),
+        Status::Ok
+    );
+    assert_eq!(
+        inst.set_real(&[VR_WAVE_HEIGHT, VR_WAVE_HEADING], &[3.0, 180.0]),
+        Status::Ok
+    );
+    assert_eq!(
+        get(&mut inst, &[VR_WAVE_HEIGHT, VR_WAVE_HEADING]),
+        [3.0, 180.0]
+    );
+    // One bad value in a call: nothing of the call is applied (seed stays -7).
+    assert_eq!(
+        inst.set_integer(&[VR_WAVE_SEED, VR_WAVE_KIND], &[5, 9]),
+        Status::Error
+    );
+    let messages = inst.take_messages();
+    assert!(
+        messages.iter().any(|m| m.text.contains("wave.kind")),
+        "{messages:?}"
+    );
+    assert_eq!(inst.model.state().waves.seed, -7);
+    let mut inst = initializing();
+    assert_eq!(
+        inst.set_real(&[VR_WAVE_HEIGHT, VR_WAVE_HEADING], &[2.5, 90.0]),
+        Status::Error
+    );
+    assert_eq!(inst.model.state().waves.height, 1.0);
+    let mut inst = initializing();
+    // Types are checked: a Real parameter through the Integer call and the other way round.
+    assert_eq!(inst.set_integer(&[VR_WAVE_HEIGHT], &[1]), Status::Error);
+    let mut inst = initializing();
+    assert_eq!(inst.set_real(&[VR_WAVE_KIND], &[1.0]), Status::Error);
+    // Fixed: refused once initialization has ended.
+    let mut inst = ready(SEED_NETWORK, false);
+    assert_eq!(inst.set_integer(&[VR_WAVE_KIND], &[1]), Status::Error);
+    let messages = inst.take_messages();
+    assert!(
+        messages.iter().any(|m| m.text.contains("fixed parameter")),
+        "{messages:?}"
+    );
 }
