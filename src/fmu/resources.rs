@@ -3,7 +3,8 @@
 //! ```text
 //! resources/network.xml   the equivalent network (crate::realize, docs/NETWORK_FORMAT.md)
 //! resources/options.xml   <hydrofmu_options format="1" keep_inf_mass="true|false"/>
-//! resources/hull.xml      the hull, when known (only carried, not read by the FMU)
+//! resources/hull.xml      the hull, when known (the FMU computes its hydrostatics from it)
+//! resources/excitation.csv  the exciting force table (docs/WAVES.md), when packed with one
 //! ```
 //!
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
@@ -59,6 +60,8 @@ pub struct Resources {
     pub options_xml: String,
     /// Whether the force includes `-A_inf a` (from `options.xml`).
     pub keep_inf_mass: bool,
+    /// Text of `excitation.csv`, when the FMU models waves.
+    pub excitation_csv: Option<String>,
 }
 
 impl Resources {
@@ -68,6 +71,17 @@ impl Resources {
     pub const HULL_FILE: &'static str = "hull.xml";
     /// The options file.
     pub const OPTIONS_FILE: &'static str = "options.xml";
+    /// The exciting force table (optional).
+    pub const EXCITATION_FILE: &'static str = "excitation.csv";
+
+    /// The same resources with the exciting force table `text` (DESIGN.md's excitation
+    /// table), or without one.
+    pub fn with_excitation(self, text: Option<String>) -> Resources {
+        Resources {
+            excitation_csv: text,
+            ..self
+        }
+    }
 
     /// The options file text for these flags.
     pub fn options_text(keep_inf_mass: bool) -> String {
@@ -88,6 +102,7 @@ impl Resources {
             hull_xml,
             options_xml,
             keep_inf_mass,
+            excitation_csv: None,
         })
     }
 
@@ -101,13 +116,16 @@ impl Resources {
         };
         let network = read(Self::NETWORK_FILE)?;
         let options = read(Self::OPTIONS_FILE)?;
-        let hull_path = dir.join(Self::HULL_FILE);
-        let hull = if hull_path.exists() {
-            Some(read(Self::HULL_FILE)?)
-        } else {
-            None
+        let optional = |name: &str| {
+            if dir.join(name).exists() {
+                read(name).map(Some)
+            } else {
+                Ok(None)
+            }
         };
-        Resources::new(network, hull, options)
+        let hull = optional(Self::HULL_FILE)?;
+        let excitation = optional(Self::EXCITATION_FILE)?;
+        Ok(Resources::new(network, hull, options)?.with_excitation(excitation))
     }
 
     /// Resources from the network text and the flags (the options text is written, not
@@ -122,6 +140,7 @@ impl Resources {
             hull_xml,
             options_xml: Self::options_text(keep_inf_mass),
             keep_inf_mass,
+            excitation_csv: None,
         }
     }
 
@@ -141,6 +160,10 @@ impl Resources {
             parts.push((Self::HULL_FILE, h.as_bytes()));
         }
         parts.push((Self::OPTIONS_FILE, self.options_xml.as_bytes()));
+        // Absent: the GUID of an FMU without waves stays what it was.
+        if let Some(x) = &self.excitation_csv {
+            parts.push((Self::EXCITATION_FILE, x.as_bytes()));
+        }
         content_guid(&parts)
     }
 }
@@ -194,6 +217,13 @@ mod tests {
         assert!(resources(true).keep_inf_mass);
         assert!(!resources(false).keep_inf_mass);
         assert_ne!(resources(false).guid(), resources(true).guid());
+        // An excitation table is part of the content; without one the GUID is unchanged.
+        let plain = resources(false);
+        let waves = plain
+            .clone()
+            .with_excitation(Some("kR,j,heading,re,im\n".into()));
+        assert_ne!(plain.guid(), waves.guid());
+        assert_eq!(plain.clone().with_excitation(None).guid(), plain.guid());
     }
 
     #[test]

@@ -46,8 +46,11 @@ use crate::discretize::DiscretizeError;
 use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use crate::fmu::resources::ResourcesError;
 use crate::fmu::variables::{Quantity, WaveParameter};
+use crate::hull::Hull;
+use crate::hydrostatics;
 use crate::network::{Network, NetworkError};
-use crate::waves::{WaveKind, WaveParams};
+use crate::waves::{ExcitationTable, WaveKind, WaveParams};
+use nalgebra::DMatrix;
 use nalgebra::DVector;
 use outputs::Outputs;
 use std::fmt;
@@ -99,6 +102,8 @@ pub enum ModelError {
     Discretize(DiscretizeError),
     /// Serialized state bytes are corrupt or belong to another FMU.
     State(String),
+    /// The waves or the hydrostatics cannot be set up (the resource tables, the sea).
+    Waves(String),
 }
 
 impl fmt::Display for ModelError {
@@ -118,6 +123,7 @@ impl fmt::Display for ModelError {
             ModelError::Step(m) => write!(f, "step refused: {m}"),
             ModelError::Discretize(e) => write!(f, "step refused: {e}"),
             ModelError::State(m) => write!(f, "FMU state: {m}"),
+            ModelError::Waves(m) => write!(f, "waves: {m}"),
         }
     }
 }
@@ -230,6 +236,10 @@ pub struct Model {
     outputs_valid: bool,
     work: DVector<f64>,
     branch_forces: DVector<f64>,
+    /// The exciting force table of `resources/excitation.csv` (DOFs in the network's order).
+    excitation: Option<ExcitationTable>,
+    /// `C / (rho g)` from `resources/hull.xml`, in the network's DOF order.
+    hydrostatics_per_rho_g: Option<DMatrix<f64>>,
 }
 
 impl Model {
@@ -254,6 +264,8 @@ impl Model {
             work: DVector::zeros(ns),
             branch_forces: DVector::zeros(system.branch_count()),
             system,
+            excitation: None,
+            hydrostatics_per_rho_g: None,
         };
         model.refresh();
         Ok(model)
@@ -273,7 +285,58 @@ impl Model {
             keep_inf_mass: resources.keep_inf_mass,
             guid: Some(resources.guid()),
         };
-        Model::new(&network, options)
+        let mut model = Model::new(&network, options)?;
+        let names = model.dof_names().to_vec();
+        if let Some(text) = &resources.excitation_csv {
+            let source = format!("resources/{}", Resources::EXCITATION_FILE);
+            let table = ExcitationTable::from_csv_str(text, &source)
+                .map_err(|e| ModelError::Waves(e.to_string()))?;
+            if table.modes() != names.as_slice() {
+                return Err(ModelError::Waves(format!(
+                    "{source}: modes {} differ from the network's DOFs {}",
+                    table.modes().join(" "),
+                    names.join(" ")
+                )));
+            }
+            model.excitation = Some(table);
+        }
+        if let Some(text) = &resources.hull_xml {
+            let source = format!("resources/{}", Resources::HULL_FILE);
+            let hull =
+                Hull::from_xml_str(text, &source).map_err(|e| ModelError::Waves(e.to_string()))?;
+            let restoring =
+                hydrostatics::stiffness(&hull).map_err(|e| ModelError::Waves(e.to_string()))?;
+            let hull_names = hull.dof_names();
+            let index: Option<Vec<usize>> = names
+                .iter()
+                .map(|n| hull_names.iter().position(|h| h == n))
+                .collect();
+            // A network whose DOFs the hull does not name (packed from a network file for
+            // another hull) gets no hydrostatics: `stiffness_hydrostatic` reads zeros.
+            if let Some(index) = index {
+                let c = &restoring.stiffness_per_rho_g;
+                model.hydrostatics_per_rho_g =
+                    Some(DMatrix::from_fn(names.len(), names.len(), |i, j| {
+                        c[(index[i], index[j])]
+                    }));
+            }
+        }
+        Ok(model)
+    }
+
+    /// The exciting force table the FMU was packed with, if any.
+    pub fn excitation(&self) -> Option<&ExcitationTable> {
+        self.excitation.as_ref()
+    }
+
+    /// The hydrostatic restoring `C` at the current rho and g (zeros when the FMU was packed
+    /// without its hull).
+    pub fn stiffness_hydrostatic(&self) -> DMatrix<f64> {
+        let n = self.dof_count();
+        self.hydrostatics_per_rho_g.as_ref().map_or_else(
+            || DMatrix::zeros(n, n),
+            |c| c * (self.state.rho * self.state.g),
+        )
     }
 
     /// Resource folder of an FMU from its unzipped root.

@@ -131,3 +131,46 @@ fn bad_resources_are_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn resources_with_a_hull_and_an_excitation_table_give_hydrostatics_and_checked_waves() {
+    use std::f64::consts::PI;
+    // The network's DOFs are sway and roll; the hull names them in another order, with
+    // roll about (0, -0.5).
+    let hull = r#"<hull name="half" half_beam="1.5" units="m" version="1">
+  <circle radius="1.5" depth="0"/>
+  <rigid name="roll" kind="roll" x="0" y="-0.5"/>
+  <rigid name="heave" kind="heave"/>
+  <rigid name="sway" kind="sway"/>
+</hull>"#;
+    let resources = Resources::new(
+        TWO_DOF_NETWORK.to_string(),
+        Some(hull.to_string()),
+        Resources::options_text(false),
+    )
+    .unwrap();
+    let mut m = Model::from_resources(&resources).unwrap();
+    assert_eq!(m.dof_names(), ["sway", "roll"]);
+    m.set_parameters(1000.0, 10.0).unwrap();
+    // rho g [I_wp + A (y_B - y_c)] with I_wp = 2R^3/3, A = pi R^2/2, y_B = -4R/(3 pi).
+    let r: f64 = 1.5;
+    let roll = 2.0 * r.powi(3) / 3.0 + PI * r * r / 2.0 * (-4.0 * r / (3.0 * PI) + 0.5);
+    let c = m.stiffness_hydrostatic();
+    assert_eq!(c.shape(), (2, 2));
+    assert!((c[(1, 1)] - 1e4 * roll).abs() < 1e-8, "{c}");
+    assert!(c[(0, 0)].abs() < 1e-9 && c[(0, 1)].abs() < 1e-9 && c[(1, 0)].abs() < 1e-9);
+    // A table for other DOFs is refused, naming the file.
+    let table = "# modes: roll sway\n# convention: exp(+i omega t)\n# R: 1 m\n\
+                 # length exponents: 1 0\nkR,j,heading,re,im\n\
+                 0.1,1,0,1,0\n0.1,2,0,0,1\n1,1,0,1,0\n1,2,0,0,1\n";
+    let err = Model::from_resources(&resources.clone().with_excitation(Some(table.into())))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("resources/excitation.csv") && err.contains("differ"),
+        "{err}"
+    );
+    let ordered = table.replace("roll sway", "sway roll");
+    let m = Model::from_resources(&resources.with_excitation(Some(ordered))).unwrap();
+    assert_eq!(m.excitation().unwrap().modes(), ["sway", "roll"]);
+}
