@@ -759,7 +759,13 @@ mod tests {
                 DofUnit::builtin("sway").unwrap(),
                 DofUnit::builtin("roll").unwrap(),
             ],
-            xml: Some("<hull/>".into()),
+            xml: Some(
+                hydrofmu::hull::Hull::semicircle(1.0)
+                    .unwrap()
+                    .select_dofs(&["sway", "roll"])
+                    .unwrap()
+                    .to_xml_string(),
+            ),
         }
     }
 
@@ -834,7 +840,13 @@ mod tests {
         };
         let other_net = SEED.replace("0.1153", "0.1154");
         let mut other_hull = hull();
-        other_hull.xml = Some("<hull name=\"b\"/>".into());
+        other_hull.xml = Some(
+            hydrofmu::hull::Hull::semicircle(2.0)
+                .unwrap()
+                .select_dofs(&["sway", "roll"])
+                .unwrap()
+                .to_xml_string(),
+        );
         let a = pack(SEED, &hull(), false, "a.fmu");
         assert_eq!(a, pack(SEED, &hull(), false, "a2.fmu"));
         assert_ne!(a, pack(&other_net, &hull(), false, "b.fmu"));
