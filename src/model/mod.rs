@@ -49,7 +49,7 @@ use crate::fmu::variables::{Quantity, WaveParameter};
 use crate::hull::Hull;
 use crate::hydrostatics;
 use crate::network::{Network, NetworkError};
-use crate::waves::{ExcitationTable, WaveKind, WaveParams};
+use crate::waves::{ExcitationTable, Sea, SeaScratch, WaveKind, WaveParams};
 use nalgebra::DMatrix;
 use nalgebra::DVector;
 use outputs::Outputs;
@@ -191,6 +191,8 @@ pub struct ModelState {
     pub acceleration_derivative: DVector<f64>,
     /// The incident waves (parameters; calm water by default).
     pub waves: WaveParams,
+    /// Start time of the run (the waves' ramp starts here).
+    pub start_time: f64,
 }
 
 impl ModelState {
@@ -209,6 +211,7 @@ impl ModelState {
             acceleration: DVector::zeros(dofs),
             acceleration_derivative: DVector::zeros(dofs),
             waves: WaveParams::default(),
+            start_time: 0.0,
         }
     }
 
@@ -240,6 +243,12 @@ pub struct Model {
     excitation: Option<ExcitationTable>,
     /// `C / (rho g)` from `resources/hull.xml`, in the network's DOF order.
     hydrostatics_per_rho_g: Option<DMatrix<f64>>,
+    /// The sea of the state's wave parameters, once [`Model::start_waves`] has built it
+    /// (fixed by the state: rebuilt on restore); its scratch is a phasor cache only.
+    sea: Option<(Sea, SeaScratch)>,
+    /// Whether [`Model::start_waves`] ran (initialization ended): restored states then get
+    /// their sea.
+    waves_started: bool,
 }
 
 impl Model {
@@ -266,6 +275,8 @@ impl Model {
             system,
             excitation: None,
             hydrostatics_per_rho_g: None,
+            sea: None,
+            waves_started: false,
         };
         model.refresh();
         Ok(model)
@@ -322,6 +333,61 @@ impl Model {
             }
         }
         Ok(model)
+    }
+
+    /// Builds the sea of the wave parameters (when initialization ends: the parameters, rho,
+    /// g and the start time are final). Returns the sea's notes (fallbacks, energy left
+    /// out). Calm water needs no table; waves without one are an error naming the cause.
+    pub fn start_waves(&mut self) -> Result<Vec<String>, ModelError> {
+        let sea = self.build_sea(&self.state)?;
+        let notes = sea.as_ref().map(|s| s.notes().to_vec()).unwrap_or_default();
+        self.sea = sea.map(|s| {
+            let scratch = s.scratch();
+            (s, scratch)
+        });
+        self.waves_started = true;
+        self.outputs_valid = false;
+        Ok(notes)
+    }
+
+    fn build_sea(&self, state: &ModelState) -> Result<Option<Sea>, ModelError> {
+        if state.waves.kind == WaveKind::Calm {
+            return Ok(None);
+        }
+        let Some(table) = &self.excitation else {
+            return Err(ModelError::Waves(
+                "wave.kind is not 0 (calm water), but this FMU was packed without an \
+                 excitation table (resources/excitation.csv)"
+                    .into(),
+            ));
+        };
+        Sea::new(
+            &state.waves,
+            Some(table),
+            state.rho,
+            state.g,
+            state.start_time,
+        )
+        .map(Some)
+        .map_err(|e| ModelError::Waves(e.to_string()))
+    }
+
+    /// The exciting force of the waves on every DOF at the current time (zeros in calm water).
+    pub fn force_excitation(&mut self) -> &DVector<f64> {
+        self.refresh();
+        &self.outputs.excitation
+    }
+
+    /// The radiation force on every DOF (the network's force).
+    pub fn force_radiation(&mut self) -> &DVector<f64> {
+        self.refresh();
+        &self.outputs.radiation
+    }
+
+    /// The wave elevation at x = 0 at the current time (m).
+    pub fn wave_elevation(&mut self) -> f64 {
+        self.refresh();
+        self.outputs.elevation
     }
 
     /// The exciting force table the FMU was packed with, if any.
@@ -389,9 +455,19 @@ impl Model {
         {
             return Err(ModelError::State("non-finite time".into()));
         }
+        // The sea of the restored parameters, built before anything changes.
+        let sea = if self.waves_started {
+            self.build_sea(&state)?
+        } else {
+            None
+        };
         if state.rho != self.system.rho || state.g != self.system.g {
             self.rebuild(state.rho, state.g)?;
         }
+        self.sea = sea.map(|s| {
+            let scratch = s.scratch();
+            (s, scratch)
+        });
         self.state = state;
         self.outputs_valid = false;
         Ok(())
@@ -400,6 +476,7 @@ impl Model {
     /// Rest state, default rho and g, time 0.
     pub fn reset(&mut self) -> Result<(), ModelError> {
         let rest = ModelState::rest(self.dof_count(), self.system.state_size());
+        self.waves_started = false;
         self.set_state(rest)
     }
 
@@ -409,6 +486,7 @@ impl Model {
             return Err(ModelError::Step(format!("start time {time} is not finite")));
         }
         self.state.time = time;
+        self.state.start_time = time;
         self.state.time_anchor = time;
         self.state.last_step = 0.0;
         self.state.steps_since_anchor = 0;

@@ -23,6 +23,12 @@ use nalgebra::DVector;
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Outputs {
     pub(super) force: DVector<f64>,
+    /// The radiation part of `force` (the network's force).
+    pub(super) radiation: DVector<f64>,
+    /// The exciting force of the waves (zero in calm water).
+    pub(super) excitation: DVector<f64>,
+    /// Wave elevation at x = 0.
+    pub(super) elevation: f64,
     pub(super) power: f64,
     pub(super) energy: Option<f64>,
 }
@@ -32,6 +38,9 @@ impl Outputs {
     pub(super) fn zeros(n: usize) -> Outputs {
         Outputs {
             force: DVector::zeros(n),
+            radiation: DVector::zeros(n),
+            excitation: DVector::zeros(n),
+            elevation: 0.0,
             power: 0.0,
             energy: None,
         }
@@ -58,6 +67,18 @@ impl Model {
         // -0.0 + 0.0 = +0.0: a force at rest reads 0, not -0.
         out.force.add_scalar_mut(0.0);
         out.power = -out.force.dot(&s.velocity) + 0.0;
+        out.radiation.copy_from(&out.force);
+        match &mut self.sea {
+            Some((sea, scratch)) => {
+                out.elevation = sea.evaluate(s.time, scratch, out.excitation.as_mut_slice());
+                // Calm water leaves the force untouched (bit for bit).
+                out.force += &out.excitation;
+            }
+            None => {
+                out.excitation.fill(0.0);
+                out.elevation = 0.0;
+            }
+        }
         out.energy = None;
         self.outputs_valid = true;
     }

@@ -4,7 +4,7 @@
 //! (u32 length + UTF-8), DOFs n and states (u32 each), keep_inf_mass (u8), rho, g, time,
 //! time anchor, last step (f64 each), steps since the anchor (u64), then z, v, v', a, a'
 //! (f64 each), the wave parameters (kind, seed, components, height, period, heading, gamma, ramp:
-//! `write_waves`), then an FNV-1a 64 checksum of everything before it. A state is accepted
+//! `write_waves`) and the start time (f64), then an FNV-1a 64 checksum of everything before it. A state is accepted
 //! only by a component with the same GUID and dimensions, and valid wave parameters.
 
 use super::system::check_parameter;
@@ -58,8 +58,8 @@ impl ByteReader<'_> {
     }
 }
 
-/// Bytes of the wave parameters in the state.
-const WAVE_BYTES: usize = 4 + 4 + 4 + 5 * 8;
+/// Bytes of the wave parameters and the start time in the state.
+const WAVE_BYTES: usize = 4 + 4 + 4 + 5 * 8 + 8;
 
 /// The wave parameters: kind (i32), seed (i32), components (u32), height, period, heading,
 /// gamma, ramp (f64).
@@ -121,6 +121,7 @@ impl Model {
             }
         }
         write_waves(&mut b, &s.waves);
+        b.extend_from_slice(&s.start_time.to_le_bytes());
         let sum = fnv1a(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -192,7 +193,11 @@ impl Model {
             acceleration: r.vector(n)?,
             acceleration_derivative: r.vector(n)?,
             waves: read_waves(&mut r)?,
+            start_time: r.f64()?,
         };
+        if !state.start_time.is_finite() {
+            return Err(ModelError::State("the start time is not finite".into()));
+        }
         if r.at != body.len() {
             return Err(ModelError::State("trailing bytes".into()));
         }

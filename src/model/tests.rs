@@ -174,3 +174,66 @@ fn resources_with_a_hull_and_an_excitation_table_give_hydrostatics_and_checked_w
     let m = Model::from_resources(&resources.with_excitation(Some(ordered))).unwrap();
     assert_eq!(m.excitation().unwrap().modes(), ["sway", "roll"]);
 }
+
+#[test]
+fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
+    use crate::fmu::variables::WaveParameter;
+    let table = "# modes: sway roll\n# convention: exp(+i omega t)\n# R: 2 m\n\
+                 # length exponents: 0 1\nkR,j,heading,re,im\n\
+                 0.1,1,0,0.1,0.2\n0.1,2,0,0.3,-0.1\n0.5,1,0,0.4,-0.25\n0.5,2,0,-0.2,0.6\n\
+                 1,1,0,0.2,0.1\n1,2,0,0.1,0.1\n";
+    let resources = Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false))
+        .unwrap()
+        .with_excitation(Some(table.into()));
+    let (rho, g, radius): (f64, f64, f64) = (1000.0, 9.8, 2.0);
+    let omega = (0.5 * g / radius).sqrt();
+    let build = |kind: i32| {
+        let mut m = Model::from_resources(&resources).unwrap();
+        m.set_parameters(rho, g).unwrap();
+        m.set_wave_integer(WaveParameter::Kind, kind).unwrap();
+        m.set_wave_real(WaveParameter::Height, 1.5).unwrap();
+        m.set_wave_real(WaveParameter::Period, 2.0 * std::f64::consts::PI / omega)
+            .unwrap();
+        m.set_start_time(0.0).unwrap();
+        m.start_waves().unwrap();
+        m.set_value(Quantity::Velocity(0), 0.3).unwrap();
+        m
+    };
+    let (mut calm, mut wave) = (build(0), build(1));
+    let amplitude = 0.75;
+    // X = (re + i im) rho g R^(1 + e).
+    let x = [
+        num_complex::Complex64::new(0.4, -0.25) * (rho * g * radius),
+        num_complex::Complex64::new(-0.2, 0.6) * (rho * g * radius * radius),
+    ];
+    for _ in 0..37 {
+        calm.step(calm.time(), 0.05).unwrap();
+        wave.step(wave.time(), 0.05).unwrap();
+        let t = wave.time();
+        let phasor = num_complex::Complex64::new(0.0, omega * t).exp();
+        let radiation = calm.forces().clone();
+        assert_eq!(wave.force_radiation(), &radiation);
+        for j in 0..2 {
+            let expected = (x[j] * phasor * amplitude).re;
+            let got = wave.force_excitation()[j];
+            assert!(
+                (got - expected).abs() < 1e-9 * x[j].norm(),
+                "{j}: {got} vs {expected}"
+            );
+            assert_eq!(wave.value(Quantity::Force(j)).unwrap(), radiation[j] + got);
+        }
+        assert!((wave.wave_elevation() - amplitude * (omega * t).cos()).abs() < 1e-12);
+        assert_eq!(
+            calm.force_excitation().iter().copied().fold(0.0, f64::max),
+            0.0
+        );
+        assert_eq!(calm.wave_elevation(), 0.0);
+    }
+    // Waves without a table are refused when initialization ends.
+    let plain =
+        Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false)).unwrap();
+    let mut m = Model::from_resources(&plain).unwrap();
+    m.set_wave_integer(WaveParameter::Kind, 2).unwrap();
+    let err = m.start_waves().unwrap_err().to_string();
+    assert!(err.contains("without an excitation table"), "{err}");
+}
