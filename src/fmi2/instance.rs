@@ -298,6 +298,11 @@ impl Instance {
     /// fmi2ExitInitializationMode: ready to step.
     pub fn exit_initialization_mode(&mut self) -> Status {
         self.run(Function::ExitInitializationMode, |inst| {
+            // The wave parameters, rho, g and the start time are final now.
+            let notes = inst.model.start_waves().map_err(|e| e.to_string())?;
+            for note in notes {
+                inst.log(Status::Warning, Category::Warning, note);
+            }
             inst.phase = Phase::StepComplete;
             let text = format!(
                 "initialized at t = {} with rho = {}, g = {}",
