@@ -265,6 +265,21 @@ impl Layout {
             Vec::new()
         };
         outputs.push((self.index_of(Quantity::Energy), energy_deps, "dependent"));
+        // The radiation force depends on the inputs as the force does; the waves on none.
+        for i in 0..n {
+            let deps = outputs
+                .iter()
+                .find(|o| o.0 == self.index_of(Quantity::Force(i)))
+                .map(|o| o.1.clone())
+                .unwrap_or_default();
+            outputs.push((self.index_of(Quantity::ForceRadiation(i)), deps, "fixed"));
+            outputs.push((
+                self.index_of(Quantity::ForceExcitation(i)),
+                Vec::new(),
+                "fixed",
+            ));
+        }
+        outputs.push((self.index_of(Quantity::WaveElevation), Vec::new(), "fixed"));
         outputs.sort_by_key(|o| o.0);
 
         let text = |w: &mut Writer<Vec<u8>>, s: &str| {

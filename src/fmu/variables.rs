@@ -166,6 +166,14 @@ pub enum Quantity {
     DampingDirect(usize, usize),
     /// Power the hull delivers to the water (output).
     Power,
+    /// Radiation part of the force (output).
+    ForceRadiation(usize),
+    /// Exciting force of the waves (output).
+    ForceExcitation(usize),
+    /// Wave elevation at x = 0 (output).
+    WaveElevation,
+    /// Hydrostatic restoring entry (calculated parameter).
+    StiffnessHydrostatic(usize, usize),
     /// Energy stored in the network (output).
     Energy,
 }
@@ -232,6 +240,21 @@ pub struct Layout {
     pub(super) dofs: Vec<DofUnit>,
     pub(super) keep_inf_mass: bool,
     pub(super) variables: Vec<Variable>,
+}
+
+/// Offset (from [`FIRST_PER_HULL_REFERENCE`]) of the wave and hydrostatics variables: after
+/// the acceleration slot, whether or not the accelerations exist.
+fn waves_base(n: usize) -> usize {
+    3 * n + 2 + 2 * n * n
+}
+
+/// Unit of a hydrostatic stiffness entry per unit length, `e_i + e_j = 0, 1, 2`.
+fn stiffness_unit(length_exponents: u8) -> &'static str {
+    match length_exponents {
+        0 => "N/m2",
+        1 => "N/m",
+        _ => "N",
+    }
 }
 
 /// The fixed parameter of a value reference below [`FIRST_PER_HULL_REFERENCE`].
@@ -394,6 +417,66 @@ impl Layout {
                 }
             }
         }
+        for (i, d) in layout.dofs.iter().enumerate() {
+            vars.push(Variable {
+                name: format!("force_radiation.{}", d.name),
+                value_reference: 0,
+                quantity: Quantity::ForceRadiation(i),
+                causality: Causality::Output,
+                unit: d.force_unit(),
+                description: format!(
+                    "Radiation part of force.{} (the equivalent network's force)",
+                    d.name
+                ),
+                start: None,
+                integer: false,
+            });
+        }
+        for (i, d) in layout.dofs.iter().enumerate() {
+            vars.push(Variable {
+                name: format!("force_excitation.{}", d.name),
+                value_reference: 0,
+                quantity: Quantity::ForceExcitation(i),
+                causality: Causality::Output,
+                unit: d.force_unit(),
+                description: format!(
+                    "Exciting force of the incident waves in DOF {} (0 in calm water)",
+                    d.name
+                ),
+                start: None,
+                integer: false,
+            });
+        }
+        vars.push(Variable {
+            name: "wave.elevation".into(),
+            value_reference: 0,
+            quantity: Quantity::WaveElevation,
+            causality: Causality::Output,
+            unit: "m",
+            description: "Elevation of the incident waves at x = 0".into(),
+            start: None,
+            integer: false,
+        });
+        for i in 0..n {
+            for j in 0..n {
+                let sum = layout.dofs[i].length_exponent + layout.dofs[j].length_exponent;
+                let (di, dj) = (&layout.dofs[i].name, &layout.dofs[j].name);
+                vars.push(Variable {
+                    name: format!("stiffness_hydrostatic[{},{}]", i + 1, j + 1),
+                    value_reference: 0,
+                    quantity: Quantity::StiffnessHydrostatic(i, j),
+                    causality: Causality::CalculatedParameter,
+                    unit: stiffness_unit(sum),
+                    description: format!(
+                        "Hydrostatic restoring, {di}-{dj}: add it to the hull's stiffness matrix; \
+                         the structural model adds the initial stress of the pre-loaded shell \
+                         and the weight's -m g z_G (docs/HYDROSTATICS.md)"
+                    ),
+                    start: None,
+                    integer: false,
+                });
+            }
+        }
         if keep_inf_mass {
             for (i, d) in layout.dofs.iter().enumerate() {
                 vars.push(Variable {
@@ -465,6 +548,12 @@ impl Layout {
             Quantity::AddedMassInf(i, j) if i < n && j < n => 2 * n + 2 + i * n + j,
             Quantity::DampingDirect(i, j) if i < n && j < n => 2 * n + 2 + n * n + i * n + j,
             Quantity::Acceleration(i) if i < n && self.keep_inf_mass => 2 * n + 2 + 2 * n * n + i,
+            Quantity::ForceRadiation(i) if i < n => waves_base(n) + i,
+            Quantity::ForceExcitation(i) if i < n => waves_base(n) + n + i,
+            Quantity::WaveElevation => waves_base(n) + 2 * n,
+            Quantity::StiffnessHydrostatic(i, j) if i < n && j < n => {
+                waves_base(n) + 2 * n + 1 + i * n + j
+            }
             _ => return None,
         };
         u32::try_from(base + offset).ok()
@@ -493,6 +582,18 @@ impl Layout {
             Quantity::DampingDirect(r / n, r % n)
         } else if self.keep_inf_mass && k < 3 * n + 2 + 2 * n * n {
             Quantity::Acceleration(k - 2 * n - 2 - 2 * n * n)
+        } else if k >= waves_base(n) && k < waves_base(n) + 2 * n + 1 + n * n {
+            let r = k - waves_base(n);
+            if r < n {
+                Quantity::ForceRadiation(r)
+            } else if r < 2 * n {
+                Quantity::ForceExcitation(r - n)
+            } else if r == 2 * n {
+                Quantity::WaveElevation
+            } else {
+                let r = r - 2 * n - 1;
+                Quantity::StiffnessHydrostatic(r / n, r % n)
+            }
         } else {
             return None;
         };
@@ -533,7 +634,9 @@ mod tests {
             }
             let n = 9;
             let fixed = crate::fmu::description::PARAMETERS.len();
-            let expected = fixed + 2 * n + 2 + 2 * n * n + if keep { n } else { 0 };
+            // + force_radiation, force_excitation, wave.elevation, stiffness_hydrostatic.
+            let expected =
+                fixed + 2 * n + 2 + 2 * n * n + if keep { n } else { 0 } + 2 * n + 1 + n * n;
             assert_eq!(layout.variables().len(), expected);
             // One past the last per-hull reference is unknown.
             let last = layout.variables().iter().map(|v| v.value_reference).max();

@@ -122,6 +122,21 @@ impl Model {
                 self.outputs.power
             }
             Quantity::Energy => self.energy(),
+            Quantity::ForceRadiation(i) if i < n => {
+                self.refresh();
+                self.outputs.radiation[i]
+            }
+            Quantity::ForceExcitation(i) if i < n => {
+                self.refresh();
+                self.outputs.excitation[i]
+            }
+            Quantity::WaveElevation => {
+                self.refresh();
+                self.outputs.elevation
+            }
+            Quantity::StiffnessHydrostatic(i, j) if i < n && j < n => {
+                self.stiffness_hydrostatic()[(i, j)]
+            }
             other => return Err(ModelError::Variable(format!("{other:?} does not exist"))),
         };
         Ok(v)
