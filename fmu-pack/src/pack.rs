@@ -23,6 +23,7 @@ use hydrofmu::fmu::{DescriptionInfo, Layout, Resources};
 use hydrofmu::model::{Model, ModelOptions};
 use hydrofmu::network::Network;
 use hydrofmu::scene::{Band, Scene, SceneReport};
+use hydrofmu::sweep::ExcitationPart;
 use hydrofmu::xml::escape;
 use std::fmt;
 use std::io::{Read, Write};
@@ -269,7 +270,32 @@ pub fn pack_network(
     output: &Path,
     fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
-    let resources = Resources::with_options(network.xml.clone(), hull.xml.clone(), keep_inf_mass);
+    // The exciting force table of the sweep, for the network's DOFs (a network packed from a
+    // file has no sweep: its FMU models calm water only).
+    let excitation = match fit {
+        Some(fitted) => {
+            let names: Vec<&str> = network
+                .network
+                .dof_names
+                .iter()
+                .map(String::as_str)
+                .collect();
+            let sweep = fitted.built.sweep.select_dofs(&names).ok_or_else(|| {
+                format!(
+                    "the sweep has no exciting force for the DOFs {}",
+                    names.join(" ")
+                )
+            })?;
+            let mut text = Vec::new();
+            sweep
+                .write_excitation_csv(&mut text, ExcitationPart::Total)
+                .map_err(|e| format!("cannot format the excitation table: {e}"))?;
+            Some(String::from_utf8_lossy(&text).into_owned())
+        }
+        None => None,
+    };
+    let resources = Resources::with_options(network.xml.clone(), hull.xml.clone(), keep_inf_mass)
+        .with_excitation(excitation);
     // The GUID is that of the packed texts.
     let options = ModelOptions {
         keep_inf_mass,
@@ -350,6 +376,12 @@ pub fn pack_network(
         entries.push((
             format!("resources/{}", Resources::HULL_FILE),
             h.clone().into_bytes(),
+        ));
+    }
+    if let Some(x) = &resources.excitation_csv {
+        entries.push((
+            format!("resources/{}", Resources::EXCITATION_FILE),
+            x.clone().into_bytes(),
         ));
     }
     entries.push((
@@ -687,8 +719,14 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
     )?
     .ok_or_else(|| missing(Resources::OPTIONS_FILE))?;
     let hull = read_entry(&mut archive, &format!("resources/{}", Resources::HULL_FILE))?;
+    let excitation = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::EXCITATION_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
-    let resources = Resources::new(network, hull, options).map_err(|e| e.to_string())?;
+    let resources = Resources::new(network, hull, options)
+        .map_err(|e| e.to_string())?
+        .with_excitation(excitation);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
