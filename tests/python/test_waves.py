@@ -112,22 +112,26 @@ def test_calm_water_is_the_default_and_the_hydrostatics_are_exposed(rigid_fmu):
     fmu.freeInstance()
 
 
-def test_bad_wave_parameters_are_refused_with_their_name(rigid_fmu):
+def test_bad_wave_parameters_are_refused_with_their_name(rigid_fmu, capfd):
+    from fmpy.fmi1 import FMICallException
+
     md = read_model_description(str(rigid_fmu))
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(rigid_fmu)),
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bad")
-    messages = []
-    fmu.instantiate(loggingOn=True)
-    fmu.setupExperiment(startTime=0.0)
-    fmu.enterInitializationMode()
-    from fmpy.fmi2 import FMICallException
-    for call in (
-        lambda: fmu.setInteger([vr["wave.kind"]], [7]),
-        lambda: fmu.setReal([vr["wave.height"]], [-1.0]),
-        lambda: fmu.setReal([vr["wave.heading"]], [90.0]),
-        lambda: fmu.setReal([vr["wave.period"]], [float("nan")]),
+    unzipped = extract(str(rigid_fmu))
+    for name, call in (
+        ("wave.kind", lambda f: f.setInteger([vr["wave.kind"]], [7])),
+        ("wave.height", lambda f: f.setReal([vr["wave.height"]], [-1.0])),
+        ("wave.heading", lambda f: f.setReal([vr["wave.heading"]], [90.0])),
+        ("wave.period", lambda f: f.setReal([vr["wave.period"]], [float("nan")])),
+        ("wave.kind", lambda f: f.setReal([vr["wave.kind"]], [1.0])),
     ):
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bad")
+        fmu.instantiate(loggingOn=True)
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        capfd.readouterr()
         with pytest.raises(FMICallException):
-            call()
-    fmu.freeInstance()
+            call(fmu)
+        assert name in capfd.readouterr().out, name
+        fmu.freeInstance()
