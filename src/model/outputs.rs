@@ -161,10 +161,20 @@ impl Model {
         if sys.keep_inf_mass {
             fdot -= &sys.added_mass_inf * &s.acceleration_derivative;
         }
+        let waves = self.sea.is_some();
         match quantity {
-            Quantity::Force(i) if i < n => Ok(fdot[i]),
+            // The exciting force's own time derivative is not provided: refused, not wrong.
+            Quantity::Force(_) | Quantity::ForceExcitation(_) | Quantity::WaveElevation
+                if waves =>
+            {
+                Err(ModelError::Variable(format!(
+                    "{quantity:?}: output derivatives in waves are not provided (the radiation \
+                     force's are)"
+                )))
+            }
+            Quantity::Force(i) | Quantity::ForceRadiation(i) if i < n => Ok(fdot[i]),
             Quantity::Power => {
-                Ok(-(fdot.dot(&s.velocity) + self.outputs.force.dot(&s.velocity_derivative)))
+                Ok(-(fdot.dot(&s.velocity) + self.outputs.radiation.dot(&s.velocity_derivative)))
             }
             Quantity::Energy => {
                 // d/dt 1/2 z^T P z = 1/2 (z^T P zdot + zdot^T P z)
@@ -204,7 +214,7 @@ impl Model {
             (Quantity::Force(i), Quantity::Acceleration(j)) if i < n && j < n && keep => -m[(i, j)],
             // power = -F . v: d/dv_j = -F_j - sum_i v_i dF_i/dv_j
             (Quantity::Power, Quantity::Velocity(j)) if j < n => {
-                -self.outputs.force[j] + d.column(j).dot(v)
+                -self.outputs.radiation[j] + d.column(j).dot(v)
             }
             (Quantity::Power, Quantity::Acceleration(j)) if j < n && keep => m.column(j).dot(v),
             (Quantity::Energy, Quantity::Velocity(j)) if j < n => {
@@ -250,6 +260,12 @@ impl Model {
         if !exists {
             return Err(ModelError::Variable(format!(
                 "no partial derivative of {of:?} with respect to {parameter:?}"
+            )));
+        }
+        if parameter == Quantity::G && self.sea.is_some() && matches!(of, Quantity::Force(_)) {
+            // The exciting force depends on g through X(kR = omega^2 R / g): not provided.
+            return Err(ModelError::Variable(format!(
+                "{of:?}: the derivative with respect to g is not provided in waves"
             )));
         }
         let value = self.value(of)?;

@@ -229,6 +229,26 @@ fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
         );
         assert_eq!(calm.wave_elevation(), 0.0);
     }
+    // Power and its derivatives are the radiation's; the excitation's time derivative and its
+    // g-derivative are refused rather than wrong.
+    assert_eq!(
+        wave.value(Quantity::Power).unwrap(),
+        calm.value(Quantity::Power).unwrap()
+    );
+    assert_eq!(
+        wave.partial_derivative(Quantity::Power, Quantity::Velocity(0))
+            .unwrap(),
+        calm.partial_derivative(Quantity::Power, Quantity::Velocity(0))
+            .unwrap()
+    );
+    assert_eq!(
+        wave.output_derivative(Quantity::ForceRadiation(1)).unwrap(),
+        calm.output_derivative(Quantity::Force(1)).unwrap()
+    );
+    assert!(wave.output_derivative(Quantity::Force(1)).is_err());
+    assert!(wave
+        .partial_derivative(Quantity::Force(0), Quantity::G)
+        .is_err());
     // Waves without a table are refused when initialization ends.
     let plain =
         Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false)).unwrap();
