@@ -12,11 +12,21 @@
 //! | `added_mass_inf[i,j]` | calculated parameter | r0 + 2n + 2 + (i-1) n + j - 1 |
 //! | `damping_direct[i,j]` | calculated parameter | r0 + 2n + 2 + n^2 + (i-1) n + j - 1 |
 //! | `acceleration.<d_i>` (keep_inf_mass only) | input, start 0 | r0 + 2n + 2 + 2n^2 + i - 1 |
+//! | `force_radiation.<d_i>` | output | w0 + i - 1 |
+//! | `force_excitation.<d_i>` | output | w0 + n + i - 1 |
+//! | `wave.elevation` | output | w0 + 2n |
+//! | `stiffness_hydrostatic[i,j]` | calculated parameter | w0 + 2n + 1 + (i-1) n + j - 1 |
 //!
-//! plus the fixed parameters `rho`, `g` of `modelDescription/fixed.xml`. `force` is the
-//! generalized force on the hull by the water per unit length; `power = -force . velocity`
-//! is the power the hull delivers to the water; `energy` is the energy stored in the
-//! equivalent network (plus `1/2 v^T A_inf v` when the FMU keeps `A_inf`).
+//! with `w0 = r0 + 3n + 2 + 2n^2` (after the acceleration slot, whether or not it is used),
+//! plus the fixed parameters of `modelDescription/fixed.xml`: `rho`, `g` and the wave
+//! parameters `wave.kind`, `wave.height`, `wave.period`, `wave.heading`, `wave.gamma`,
+//! `wave.seed`, `wave.components`, `wave.ramp` (value references 0 .. 9; kind, seed and
+//! components are Integers). `force` is the generalized force on the hull by the water per
+//! unit length, `force_radiation + force_excitation`; `power = -force_radiation . velocity`
+//! is the power the hull delivers to the water through the radiated waves; `energy` is the
+//! energy stored in the equivalent network (plus `1/2 v^T A_inf v` when the FMU keeps
+//! `A_inf`). In calm water (`wave.kind = 0`, the default) `force` is the radiation force, as
+//! before the waves existed.
 //!
 //! Units follow each DOF's length exponent ([`crate::fmu::units`]).
 //! [`Layout::model_description`] ([`crate::fmu::description`]) writes the complete
