@@ -118,8 +118,11 @@ def shell_properties(thickness: float = THICKNESS):
     return bending, mu, edge_mass
 
 
-def structure(added_mass_inf_sway: float, thickness: float = THICKNESS):
-    """The floating-frame model: (Structure over p, dry elastic frequencies, elastic shapes)."""
+def structure(added_mass_inf_sway: float, thickness: float = THICKNESS, hydrostatic_heave: bool = True):
+    """The floating-frame model: (Structure over p, dry elastic frequencies, elastic shapes).
+
+    `hydrostatic_heave`: add the heave restoring rho g 2R here (False when the caller adds the
+    FMU's `stiffness_hydrostatic`, which holds it)."""
     r = hc.RADIUS
     bending, mu, edge_mass = shell_properties(thickness)
     unit_mass, unit_stiffness = beam_matrices(r)
@@ -137,7 +140,8 @@ def structure(added_mass_inf_sway: float, thickness: float = THICKNESS):
     stiffness = fields.T @ stiffness_cb @ fields
     total = hc.RHO * np.pi * r**2 / 2
     stiffness[0, 0] += (total + added_mass_inf_sway) * (2 * np.pi / SWAY_PERIOD) ** 2
-    stiffness[1, 1] += hc.RHO * hc.G * 2 * r
+    if hydrostatic_heave:
+        stiffness[1, 1] += hc.RHO * hc.G * 2 * r
     y_g = -(mu * np.pi * r) * (2 * r / np.pi) / total  # edge masses at y = 0, arc centroid -2R/pi
     stiffness[2, 2] += total * hc.G * (-y_g)
     to_hull = np.zeros((9, 6))
@@ -173,26 +177,12 @@ def tracked_modes(st: hc.Structure, network: hc.Network, steps: int = 200):
     return dry, current
 
 
-def added_mass(network: hc.Network, omega: float) -> np.ndarray:
-    """H(i omega) of the network (NETWORK_FORMAT.md)."""
-    s = 1j * omega
-    out = network.added_mass_inf.astype(complex)
-    for d, stages in network.branches:
-        g = 0.0
-        for m, k, c in reversed(stages):
-            big_m = m + g
-            z = k + c * s
-            g = big_m * z / (z + s * s * big_m)
-        out = out + np.outer(d, d) * g
-    return out
-
-
 def breathing_receptance(st: hc.Structure, network: hc.Network | None, omegas):
     """|eta1 / f1| for a harmonic generalized force on eta1 (dry when network is None)."""
     t = st.to_hull
     out = []
     for w in omegas:
-        mass = st.mass + (t.T @ added_mass(network, w) @ t if network else 0)
+        mass = st.mass + (t.T @ network.complex_added_mass(w) @ t if network else 0)
         dynamic = st.stiffness - w * w * mass
         out.append(abs(np.linalg.solve(dynamic, np.eye(6)[:, 3])[3]))
     return np.array(out)

@@ -32,6 +32,7 @@ import os
 import pathlib
 import subprocess
 import sys
+import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass, field
@@ -45,9 +46,23 @@ FIGURES = ROOT / "docs" / "figures"
 RHO = 1025.0  # water density, kg/m3
 G = 9.81  # gravity, m/s2
 RADIUS = 1.0  # semicircle radius R, m
+# Wave parameters (docs/WAVES.md) that are FMI Integers; the others are Reals. The masters take
+# them as a dict without the "wave." prefix, e.g. {"kind": 1, "height": 1.0, "period": 6.0}.
+WAVE_INTEGERS = ("kind", "seed", "components")
 
 
 # --------------------------------------------------------------------------- FMUs
+
+
+def fmu_pack(args: list[str], echo: bool = False) -> str:
+    """Runs fmu-pack with `args` and returns its standard output. The binary is
+    $HYDROFMU_FMU_PACK when set, else `cargo run --release -p fmu-pack` (built on first use)."""
+    binary = os.environ.get("HYDROFMU_FMU_PACK")
+    command = [binary] if binary else ["cargo", "run", "--release", "-q", "-p", "fmu-pack", "--"]
+    command = command + list(args)
+    if echo:
+        print("running:", " ".join(command), file=sys.stderr)
+    return subprocess.run(command, cwd=ROOT, check=True, capture_output=True, text=True).stdout
 
 
 def ensure_fmu(name: str, pack_args: list[str], path: str | os.PathLike | None = None) -> pathlib.Path:
@@ -56,10 +71,82 @@ def ensure_fmu(name: str, pack_args: list[str], path: str | os.PathLike | None =
     if fmu.is_file():
         return fmu
     fmu.parent.mkdir(parents=True, exist_ok=True)
-    command = ["cargo", "run", "--release", "-q", "-p", "fmu-pack", "--", "pack", *pack_args, "-o", str(fmu)]
-    print("packing:", " ".join(command), file=sys.stderr)
-    subprocess.run(command, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+    fmu_pack(["pack", *pack_args, "-o", str(fmu)], echo=True)
     return fmu
+
+
+# --------------------------------------------------------------------------- sweep tables
+
+
+@dataclass
+class Coefficients:
+    """The panel method's frequency-domain coefficients at one kR, in SI per metre, for the
+    hull's DOFs: complex added mass A~ = a - i b / omega and the exciting force X per unit
+    wave amplitude of each heading (docs/WAVES.md; convention exp(+i omega t))."""
+
+    kr: float
+    omega: float
+    dofs: list[str]
+    added_mass: np.ndarray  # complex (n, n)
+    excitation: dict  # heading (deg) -> complex (n,)
+
+
+def _header_and_rows(text: str):
+    header, rows = {}, []
+    for line in text.splitlines():
+        if line.startswith("#"):
+            key, _, value = line[1:].partition(":")
+            header[key.strip()] = value.strip()
+        elif line and not line.startswith("kR"):
+            rows.append(line.split(","))
+    return header, rows
+
+
+def sweep_coefficients(hull_args: list[str], kr_grid: str, rho: float = RHO, g: float = G) -> list[Coefficients]:
+    """`fmu-pack sweep HULL_ARGS --kr KR_GRID --excitation` (the panel method's own values at
+    each kR of the grid, `lo:hi:n` log-spaced), read into SI: A~ = value rho pi R^2 R^(e_i + e_j),
+    X = value rho g R^(1 + e_j) (docs/WAVES.md; e_j the DOF's length exponent)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        radiation_path = pathlib.Path(tmp) / "added_mass.csv"
+        excitation_text = fmu_pack(
+            ["sweep", *hull_args, "--kr", kr_grid, "-o", str(radiation_path), "--excitation", "-"]
+        )
+        radiation_text = radiation_path.read_text()
+    header, rows = _header_and_rows(excitation_text)
+    dofs = header["modes"].split()
+    radius = float(header["R"].split()[0])
+    exponents = [int(e) for e in header["length exponents"].split()]
+    n = len(dofs)
+    by_kr: dict[float, Coefficients] = {}
+
+    def at(kr: float) -> Coefficients:
+        if kr not in by_kr:
+            omega = float(np.sqrt(kr * g / radius))
+            by_kr[kr] = Coefficients(kr, omega, dofs, np.zeros((n, n), dtype=complex), {})
+        return by_kr[kr]
+
+    for k, j, heading, re, im in rows:
+        if float(k) == 0.0:
+            continue  # long-wave rows
+        x = at(float(k)).excitation.setdefault(float(heading) % 360.0, np.zeros(n, dtype=complex))
+        j = int(j) - 1
+        x[j] = complex(float(re), float(im)) * rho * g * radius ** (1 + exponents[j])
+    _, rows = _header_and_rows(radiation_text)
+    for k, i, j, re, im in rows:
+        if float(k) == 0.0 or not np.isfinite(float(k)):
+            continue  # the limits' rows
+        i, j = int(i) - 1, int(j) - 1
+        scale = rho * np.pi * radius**2 * radius ** (exponents[i] + exponents[j])
+        at(float(k)).added_mass[i, j] = complex(float(re), float(im)) * scale
+    return [by_kr[kr] for kr in sorted(by_kr)]
+
+
+def harmonic_fit(t: np.ndarray, x: np.ndarray, omega: float) -> np.ndarray:
+    """Complex amplitudes c (per column of x) of the least-squares fit
+    x(t) = x0 + x1 t + Re[c e^(i omega t)] (the linear part takes up a slow drift)."""
+    basis = np.column_stack([np.ones_like(t), t - t.mean(), np.cos(omega * t), np.sin(omega * t)])
+    coefficients, *_ = np.linalg.lstsq(basis, x, rcond=None)
+    return coefficients[2] - 1j * coefficients[3]
 
 
 # --------------------------------------------------------------------------- network
@@ -129,6 +216,19 @@ class Network:
                 stiffness += k * np.outer(e, e)
                 row += 1
         return mass, damping, stiffness
+
+    def complex_added_mass(self, omega: float) -> np.ndarray:
+        """H(i omega) of the network (NETWORK_FORMAT.md): the A~(omega) the FMU realizes."""
+        s = 1j * omega
+        out = self.added_mass_inf.astype(complex)
+        for d, stages in self.branches:
+            g = 0.0
+            for m, k, c in reversed(stages):
+                big_m = m + g
+                z = k + c * s
+                g = big_m * z / (z + s * s * big_m)
+            out = out + np.outer(d, d) * g
+        return out
 
     def aux_at_rest(self, q0: np.ndarray) -> np.ndarray:
         """Auxiliary positions with every spring unstretched for hull position q0."""
@@ -230,7 +330,7 @@ def eigen_modes(mass, damping, stiffness):
 class FmpyHull:
     """The hull FMU under fmpy's FMU2Slave (the Python loop is the master)."""
 
-    def __init__(self, fmu, rho=RHO, g=G, name="hull"):
+    def __init__(self, fmu, rho=RHO, g=G, name="hull", waves: dict | None = None):
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave
 
@@ -248,6 +348,12 @@ class FmpyHull:
         self.fmu.setReal([self.vr["rho"], self.vr["g"]], [rho, g])
         self.fmu.setupExperiment(startTime=0.0)
         self.fmu.enterInitializationMode()
+        for name_, value in (waves or {}).items():
+            ref = [self.vr[f"wave.{name_}"]]
+            if name_ in WAVE_INTEGERS:
+                self.fmu.setInteger(ref, [int(value)])
+            else:
+                self.fmu.setReal(ref, [float(value)])
         self.fmu.exitInitializationMode()
         self.v_in = [self.vr[f"velocity.{d}"] for d in self.dofs]
         self.f_out = [self.vr[f"force.{d}"] for d in self.dofs]
@@ -276,7 +382,7 @@ class LibcosimHull:
     and reads the force through a last-value observer (libcosim applies the override before the
     FMU's doStep and samples outputs after it)."""
 
-    def __init__(self, fmu, h: float, rho=RHO, g=G, name="hull"):
+    def __init__(self, fmu, h: float, rho=RHO, g=G, name="hull", waves: dict | None = None):
         from fmpy import read_model_description
         from libcosimpy.CosimExecution import CosimExecution
         from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
@@ -295,6 +401,12 @@ class LibcosimHull:
         self.slave = self.execution.add_local_slave(CosimLocalSlave(fmu_path=str(fmu), instance_name=name))
         self.execution.real_initial_value(self.slave, self.vr["rho"], rho)
         self.execution.real_initial_value(self.slave, self.vr["g"], g)
+        for name_, value in (waves or {}).items():
+            ref = self.vr[f"wave.{name_}"]
+            if name_ in WAVE_INTEGERS:
+                self.execution.integer_initial_value(self.slave, ref, int(value))
+            else:
+                self.execution.real_initial_value(self.slave, ref, float(value))
         self.manipulator = CosimManipulator.create_override()
         self.observer = CosimObserver.create_last_value()
         self.execution.add_manipulator(self.manipulator)
