@@ -150,7 +150,8 @@ impl Model {
 
     /// First time derivative of an output at the current time:
     /// `dF/dt = C (A z + B v) + D v' [- A_inf a']`, `d power/dt = -(F' . v + F . v')`,
-    /// `d energy/dt` from the network equations.
+    /// `d energy/dt` from the network equations; in waves the exciting force and the elevation
+    /// add their exact rates ([`crate::waves::Sea::evaluate_rate`]).
     pub fn output_derivative(&mut self, quantity: Quantity) -> Result<f64, ModelError> {
         let n = self.dof_count();
         self.refresh();
@@ -161,18 +162,17 @@ impl Model {
         if sys.keep_inf_mass {
             fdot -= &sys.added_mass_inf * &s.acceleration_derivative;
         }
-        let waves = self.sea.is_some();
+        // The sea's own rates at the current time (exact: the harmonic sum's derivative).
+        let mut excitation_rate = DVector::zeros(n);
+        let elevation_rate = match &self.sea {
+            Some((sea, _)) => sea.evaluate_rate(s.time, excitation_rate.as_mut_slice()),
+            None => 0.0,
+        };
         match quantity {
-            // The exciting force's own time derivative is not provided: refused, not wrong.
-            Quantity::Force(_) | Quantity::ForceExcitation(_) | Quantity::WaveElevation
-                if waves =>
-            {
-                Err(ModelError::Variable(format!(
-                    "{quantity:?}: output derivatives in waves are not provided (the radiation \
-                     force's are)"
-                )))
-            }
-            Quantity::Force(i) | Quantity::ForceRadiation(i) if i < n => Ok(fdot[i]),
+            Quantity::Force(i) if i < n => Ok(fdot[i] + excitation_rate[i]),
+            Quantity::ForceExcitation(i) if i < n => Ok(excitation_rate[i]),
+            Quantity::WaveElevation => Ok(elevation_rate),
+            Quantity::ForceRadiation(i) if i < n => Ok(fdot[i]),
             Quantity::Power => {
                 Ok(-(fdot.dot(&s.velocity) + self.outputs.radiation.dot(&s.velocity_derivative)))
             }

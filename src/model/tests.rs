@@ -229,8 +229,8 @@ fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
         );
         assert_eq!(calm.wave_elevation(), 0.0);
     }
-    // Power and its derivatives are the radiation's; the excitation's time derivative and its
-    // g-derivative are refused rather than wrong.
+    // Power and its derivatives are the radiation's; the excitation's g-derivative is refused
+    // rather than wrong; its time derivative is the harmonic's, Re[i omega a X e^(i omega t)].
     assert_eq!(
         wave.value(Quantity::Power).unwrap(),
         calm.value(Quantity::Power).unwrap()
@@ -245,7 +245,25 @@ fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
         wave.output_derivative(Quantity::ForceRadiation(1)).unwrap(),
         calm.output_derivative(Quantity::Force(1)).unwrap()
     );
-    assert!(wave.output_derivative(Quantity::Force(1)).is_err());
+    let t = wave.time();
+    let phasor = num_complex::Complex64::new(0.0, omega * t).exp();
+    let radiation_rate = wave.output_derivative(Quantity::ForceRadiation(1)).unwrap();
+    let excitation_rate = (num_complex::Complex64::i() * omega * x[1] * phasor * amplitude).re;
+    let got = wave
+        .output_derivative(Quantity::ForceExcitation(1))
+        .unwrap();
+    assert!((got - excitation_rate).abs() < 1e-9 * omega * x[1].norm());
+    assert_eq!(
+        wave.output_derivative(Quantity::Force(1)).unwrap(),
+        radiation_rate + got
+    );
+    let elevation_rate = wave.output_derivative(Quantity::WaveElevation).unwrap();
+    assert!((elevation_rate + amplitude * omega * (omega * t).sin()).abs() < 1e-12);
+    assert_eq!(
+        calm.output_derivative(Quantity::ForceExcitation(1))
+            .unwrap(),
+        0.0
+    );
     assert!(wave
         .partial_derivative(Quantity::Force(0), Quantity::G)
         .is_err());

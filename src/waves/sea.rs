@@ -245,6 +245,45 @@ impl Sea {
         }
     }
 
+    /// `dr/dt` of [`Self::ramp_factor`]: `pi / (2 T_ramp) sin(pi (t - t0) / T_ramp)` inside
+    /// the ramp, 0 outside.
+    pub fn ramp_rate(&self, time: f64) -> f64 {
+        let elapsed = time - self.start_time;
+        if self.ramp <= 0.0 || elapsed >= self.ramp || elapsed <= 0.0 {
+            0.0
+        } else {
+            0.5 * PI / self.ramp * (PI * elapsed / self.ramp).sin()
+        }
+    }
+
+    /// Time derivatives of the elevation (returned) and of the exciting forces (written into
+    /// `forces_rate`, as [`Self::evaluate`]), by the direct sum:
+    ///
+    /// ```text
+    /// d/dt r Re[c e^{i omega t}] = r' Re[c e^{i omega t}] - r omega Im[c e^{i omega t}]
+    /// ```
+    pub fn evaluate_rate(&self, time: f64, forces_rate: &mut [f64]) -> f64 {
+        let written = forces_rate.len().min(self.dofs);
+        forces_rate.fill(0.0);
+        let (ramp, ramp_rate) = (self.ramp_factor(time), self.ramp_rate(time));
+        // d/dt of Re[c z] with z = cos + i sin: (r' Re - r omega Im)[c z].
+        let rate = |c_re: f64, c_im: f64, omega: f64, sin: f64, cos: f64| {
+            let (re, im) = (c_re * cos - c_im * sin, c_re * sin + c_im * cos);
+            ramp_rate * re - ramp * omega * im
+        };
+        let mut elevation = 0.0;
+        for n in 0..self.count {
+            let omega = self.omega[n];
+            let (sin, cos) = (omega * time).sin_cos();
+            elevation += rate(self.elevation_re[n], self.elevation_im[n], omega, sin, cos);
+            for (j, force) in forces_rate[..written].iter_mut().enumerate() {
+                let slot = j * self.padded + n;
+                *force += rate(self.force_re[slot], self.force_im[slot], omega, sin, cos);
+            }
+        }
+        elevation
+    }
+
     /// A scratch sized for this sea, not yet synchronized.
     pub fn scratch(&self) -> SeaScratch {
         SeaScratch::sized(self.padded)

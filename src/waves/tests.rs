@@ -790,3 +790,37 @@ fn the_table_band_cuts_the_spectrum_with_a_warning_or_an_error() {
         "{err}"
     );
 }
+
+#[test]
+fn rates_are_the_time_derivatives_inside_and_after_the_ramp() {
+    // Central differences of the direct sum: error (dt^2 / 6) omega^3 |c| with omega up to
+    // 6 wp = 4.7 rad/s and dt = 1e-5 s: below 2e-9 of sum |c| omega, far under the 1e-6 asserted.
+    let table = table(1.0, false);
+    let params = WaveParams {
+        ramp: 20.0,
+        ..jonswap_params(100, 9)
+    };
+    let sea = Sea::new(&params, Some(&table), 1025.0, 9.81, 3.0).unwrap();
+    let dofs = sea.dof_count();
+    let omega_max = sea.frequencies().iter().copied().fold(0.0, f64::max);
+    let (mut plus, mut minus, mut rate) = (vec![0.0; dofs], vec![0.0; dofs], vec![0.0; dofs]);
+    let dt = 1e-5;
+    for time in [3.5, 10.0, 22.9, 23.0 + 1e-3, 60.0, 1234.5] {
+        let e_plus = sea.evaluate_direct(time + dt, &mut plus);
+        let e_minus = sea.evaluate_direct(time - dt, &mut minus);
+        let e_rate = sea.evaluate_rate(time, &mut rate);
+        let elevation_scale = amplitude_sum(&sea, None) * omega_max;
+        assert!(((e_plus - e_minus) / (2.0 * dt) - e_rate).abs() < 1e-6 * elevation_scale);
+        for j in 0..dofs {
+            let scale = amplitude_sum(&sea, Some(j)) * omega_max;
+            let difference = (plus[j] - minus[j]) / (2.0 * dt);
+            assert!(
+                (difference - rate[j]).abs() < 1e-6 * scale,
+                "t {time} dof {j}"
+            );
+        }
+    }
+    // Before the start and in calm water: zero.
+    assert_eq!(sea.evaluate_rate(2.0, &mut rate), 0.0);
+    assert!(rate.iter().all(|&r| r == 0.0));
+}

@@ -94,6 +94,11 @@ def test_a_regular_wave_gives_the_tables_force_in_amplitude_and_phase(rigid_fmu,
             assert x == pytest.approx(expected, abs=1e-5 * scale), d
             assert r == 0.0  # the hull is at rest
             assert f == x + r
+        # Order-1 output derivatives: the harmonic's, d/dt Re[a X e^(i omega t)].
+        rates = fmu.getRealOutputDerivatives([vr["wave.elevation"], vr["force_excitation.heave"]], [1, 1])
+        assert rates[0] == pytest.approx(-amplitude * omega * math.sin(omega * t), abs=1e-12)
+        expected = (1j * omega * amplitude * table[("heave", heading)] * complex(math.cos(omega * t), math.sin(omega * t))).real
+        assert rates[1] == pytest.approx(expected, abs=1e-5 * omega * scale)
     fmu.terminate()
     fmu.freeInstance()
 
