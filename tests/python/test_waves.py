@@ -283,7 +283,8 @@ def test_fmu_state_save_and_restore_in_a_sea(rigid_fmu):
     assert np.all(np.abs(elsewhere - original) <= 1e-11 * scale + 1e-300)
 
 
-def test_libcosim_runs_a_regular_wave_with_the_tables_force(rigid_fmu, fmu_pack_binary):
+@pytest.mark.parametrize("heading", [0.0, 180.0])
+def test_libcosim_runs_a_regular_wave_with_the_tables_force(rigid_fmu, fmu_pack_binary, heading):
     """libcosim sets the wave parameters as initial values (Integer kind, Real height, period,
     heading) and steps on its nanosecond clock: the same force as the table, as under fmpy."""
     from libcosimpy.CosimExecution import CosimExecution
@@ -292,7 +293,7 @@ def test_libcosim_runs_a_regular_wave_with_the_tables_force(rigid_fmu, fmu_pack_
     from libcosimpy.CosimSlave import CosimLocalSlave
 
     log_output_level(CosimLogLevel.WARNING)
-    kr, amplitude, heading = 0.8, 0.4, 180.0
+    kr, amplitude = 0.8, 0.4
     omega = math.sqrt(kr * G / RADIUS)
     h_ns = 20_000_000  # 0.02 s
     table = excitation_at(fmu_pack_binary, kr)
