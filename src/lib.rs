@@ -49,6 +49,7 @@ pub mod model;
 pub mod network;
 pub(crate) mod numerics;
 pub mod panels;
+pub mod passivity;
 pub mod realize;
 pub mod scene;
 pub mod sweep;
