@@ -59,6 +59,61 @@ pub struct PassivityReport {
 /// Checks the passivity of `system` (module docs); `tolerance` relative to the scale of `Z`
 /// (1e-9 is a sensible default).
 pub fn check(system: &StateSpace, tolerance: f64) -> PassivityReport {
+    check_realization(
+        &Realization {
+            a: &system.a,
+            b: &system.b,
+            c: &system.c,
+            d: &system.d,
+        },
+        tolerance,
+    )
+}
+
+/// A state-space model `F = C z + D v`, `z' = A z + B v` (the convention of [`StateSpace`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Realization<'a> {
+    /// State matrix.
+    pub a: &'a DMatrix<f64>,
+    /// Input matrix (hull velocity).
+    pub b: &'a DMatrix<f64>,
+    /// Output matrix (force on the hull).
+    pub c: &'a DMatrix<f64>,
+    /// Direct feedthrough.
+    pub d: &'a DMatrix<f64>,
+}
+
+impl Realization<'_> {
+    fn state_count(&self) -> usize {
+        self.a.nrows()
+    }
+
+    fn input_count(&self) -> usize {
+        self.b.ncols()
+    }
+
+    /// `C (sI - A)^-1 B + D`.
+    fn transfer(&self, s: Complex64) -> DMatrix<Complex64> {
+        let n = self.state_count();
+        let d = self.d.map(|x| Complex64::new(x, 0.0));
+        if n == 0 {
+            return d;
+        }
+        let mut shifted = self.a.map(|x| Complex64::new(-x, 0.0));
+        for i in 0..n {
+            shifted[(i, i)] += s;
+        }
+        let b = self.b.map(|x| Complex64::new(x, 0.0));
+        let c = self.c.map(|x| Complex64::new(x, 0.0));
+        match shifted.lu().solve(&b) {
+            Some(x) => c * x + d,
+            None => DMatrix::from_element(d.nrows(), d.ncols(), Complex64::new(f64::NAN, 0.0)),
+        }
+    }
+}
+
+/// [`check`] for any realization (for instance of a rational fit, before it is a network).
+pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
     let states = system.state_count();
     let n = system.input_count();
     let poles = system.a.complex_eigenvalues();
@@ -94,13 +149,13 @@ pub fn check(system: &StateSpace, tolerance: f64) -> PassivityReport {
     let mut crossings = Vec::new();
     if states > 0 && stable {
         // R = D' + D'^T with D' = -D + eps I; C' = -C.
-        let d_prime = -&system.d + DMatrix::identity(n, n) * eps;
+        let d_prime = -system.d + DMatrix::identity(n, n) * eps;
         let r = &d_prime + d_prime.transpose();
         if let Some(r_inv) = r.clone().try_inverse() {
-            let c_prime = -&system.c;
-            let b = &system.b;
+            let c_prime = -system.c;
+            let b = system.b;
             let mut m = DMatrix::zeros(2 * states, 2 * states);
-            let top_left = &system.a - b * &r_inv * &c_prime;
+            let top_left = system.a - b * &r_inv * &c_prime;
             m.view_mut((0, 0), (states, states)).copy_from(&top_left);
             m.view_mut((0, states), (states, states))
                 .copy_from(&(-(b * &r_inv * b.transpose())));

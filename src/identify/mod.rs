@@ -138,6 +138,7 @@ mod response;
 mod single_dof;
 #[cfg(test)]
 mod tests;
+pub mod vector_fitting;
 
 pub use error::IdentifyError;
 pub use params::{FitParams, FitReport, DEFAULT_TOLERANCE};

@@ -1,0 +1,417 @@
+//! Vector fitting of the radiation part of the added mass with poles common to every matrix
+//! entry (Gustavsen & Semlyen 1999; relaxed form: Gustavsen 2006; the per-entry QR
+//! compression of "fast" vector fitting: Deschrijver et al. 2008):
+//!
+//! ```text
+//! G(s) = A~(omega) - A_inf  ~  sum_m R_m / (s - p_m),   s = i omega,
+//! ```
+//!
+//! strictly proper (`G(inf) = 0`: `A_inf` is data, never fitted), real in time (a complex pole
+//! comes with its conjugate and the conjugate residue), symmetric residues `R_m` (only the
+//! entries `i <= j` are fitted). The error measure is the identification's (module docs of
+//! [`crate::identify`]): entry `(i, j)` is fitted and reported divided by `sqrt(s_i s_j)`.
+//! Fitting `G` unweighted is the same least-squares problem as fitting the radiation impedance
+//! `K(s) = s G(s)` (force per velocity) with the weight `1 / omega`.
+//!
+//! # Algorithm (deterministic)
+//!
+//! Frequencies are scaled by `omega_ref = sqrt(omega_lo omega_hi)`. Starting poles: complex
+//! pairs `p = -beta / 100 + i beta` and real poles `-beta`, `beta` log-spaced over the band.
+//! Each iteration relocates the poles: with the weight function
+//! `sigma(s) = sum_m c_m phi_m(s) + d` (same real basis `phi_m` as the fit), the linear
+//! problem `sigma f_e ~ sum_m r_em phi_m` for every entry e, in real form (real and imaginary
+//! rows), is compressed per entry by a QR factorization to the rows that involve `(c, d)`
+//! only; those rows of all entries, with the relaxation row `Re sum_k sigma(s_k) = K`, give
+//! `(c, d)` by least squares, and the new poles are the zeros of `sigma`: the eigenvalues of
+//! `H - b c^T / d` (`H` the poles in real block form). Unstable poles are mirrored into the
+//! left half-plane. After the iterations, the residues are the linear least-squares solution
+//! with the final poles (one factorization shared by all entries).
+//!
+//! The fit is not passive by construction; [`crate::passivity`] decides, exactly, whether a
+//! realization of it is.
+
+use super::{dof_scales, FrequencyResponse, IdentifyError};
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+/// Parameters of [`vector_fit`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct VectorFitParams {
+    /// Complex-conjugate pole pairs to start from (two states each per residue rank).
+    pub complex_pairs: usize,
+    /// Real poles to start from (one state each per residue rank).
+    pub real_poles: usize,
+    /// Pole relocation iterations (default 10; the poles settle in 3 to 6 on the semicircle).
+    pub iterations: usize,
+    /// Fitted band `(omega_lo, omega_hi)` in rad/s; frequencies outside are ignored.
+    pub band: (f64, f64),
+}
+
+impl Default for VectorFitParams {
+    fn default() -> Self {
+        VectorFitParams {
+            complex_pairs: 2,
+            real_poles: 0,
+            iterations: 10,
+            band: (0.0, f64::INFINITY),
+        }
+    }
+}
+
+/// A common-pole rational model of `G(s) = A~ - A_inf` (SI).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RationalFit {
+    /// One entry per real pole (`im = 0`) and per conjugate pair (the pole with `im > 0`),
+    /// rad/s, every `re < 0`.
+    pub poles: Vec<Complex64>,
+    /// `R_m` (n x n, symmetric) of each pole; a pair's conjugate pole has `conj(R_m)`.
+    pub residues: Vec<DMatrix<Complex64>>,
+    /// The DOF scales `s_i` of the error measure.
+    pub dof_scales: DVector<f64>,
+    /// Largest `|G_fit - G|_ij / sqrt(s_i s_j)` over the band.
+    pub max_error: f64,
+}
+
+impl RationalFit {
+    /// `G(i omega)` of the model (without `A_inf`).
+    pub fn evaluate(&self, omega: f64) -> DMatrix<Complex64> {
+        let s = Complex64::new(0.0, omega);
+        let n = self.dof_scales.len();
+        let mut out = DMatrix::zeros(n, n);
+        for (p, r) in self.poles.iter().zip(&self.residues) {
+            if p.im == 0.0 {
+                out += r * (1.0 / (s - p));
+            } else {
+                out += r * (1.0 / (s - p)) + r.map(|x| x.conj()) * (1.0 / (s - p.conj()));
+            }
+        }
+        out
+    }
+
+    /// A real state-space realization of the radiation impedance in the convention of
+    /// [`crate::realize::StateSpace`] (`F = C z + D v`, force on the hull): with
+    /// `K(s) = s G(s) = sum_m R_m + sum_m p_m R_m / (s - p_m)`, `D = -sum_m R_m` (conjugates
+    /// included) and one block of n states per pole (two per pair, in real form). Not
+    /// minimal (`n` states per pole whatever the residue's rank); for [`crate::passivity`].
+    pub fn impedance_realization(&self) -> [DMatrix<f64>; 4] {
+        let n = self.dof_scales.len();
+        let states = n * self.pole_count();
+        let mut a = DMatrix::zeros(states, states);
+        let mut b = DMatrix::zeros(states, n);
+        let mut c = DMatrix::zeros(n, states);
+        let mut d = DMatrix::zeros(n, n);
+        let mut at = 0;
+        for (p, r) in self.poles.iter().zip(&self.residues) {
+            let pr = r * *p;
+            if p.im == 0.0 {
+                for i in 0..n {
+                    a[(at + i, at + i)] = p.re;
+                    b[(at + i, i)] = 1.0;
+                }
+                c.view_mut((0, at), (n, n)).copy_from(&(-pr.map(|x| x.re)));
+                d -= r.map(|x| x.re);
+                at += n;
+            } else {
+                // x1' = Re p x1 - Im p x2 + v, x2' = Im p x1 + Re p x2 (x1 + i x2 = X, X' = p X + v):
+                // 2 Re[pR / (s - p)] v = 2 Re(pR) x1 - 2 Im(pR) x2.
+                for i in 0..n {
+                    a[(at + i, at + i)] = p.re;
+                    a[(at + i, at + n + i)] = -p.im;
+                    a[(at + n + i, at + i)] = p.im;
+                    a[(at + n + i, at + n + i)] = p.re;
+                    b[(at + i, i)] = 1.0;
+                }
+                c.view_mut((0, at), (n, n))
+                    .copy_from(&(-pr.map(|x| 2.0 * x.re)));
+                c.view_mut((0, at + n), (n, n))
+                    .copy_from(&pr.map(|x| 2.0 * x.im));
+                d -= r.map(|x| 2.0 * x.re);
+                at += 2 * n;
+            }
+        }
+        [a, b, c, d]
+    }
+
+    /// The number of poles, a conjugate pair counted twice.
+    pub fn pole_count(&self) -> usize {
+        self.poles
+            .iter()
+            .map(|p| if p.im == 0.0 { 1 } else { 2 })
+            .sum()
+    }
+}
+
+/// Poles in the scaled frequency `s / omega_ref`.
+type Poles = Vec<Complex64>;
+
+/// The real basis at `s`: `1 / (s - p)` for a real pole; `1/(s - p) + 1/(s - conj p)` and
+/// `i/(s - p) - i/(s - conj p)` for a pair (coefficients `Re r`, `Im r`).
+fn basis_row(poles: &Poles, s: Complex64, row: &mut Vec<Complex64>) {
+    row.clear();
+    for p in poles {
+        let a = 1.0 / (s - p);
+        if p.im == 0.0 {
+            row.push(a);
+        } else {
+            let b = 1.0 / (s - p.conj());
+            row.push(a + b);
+            row.push(Complex64::i() * (a - b));
+        }
+    }
+}
+
+/// The basis at every `s_k` (K x N complex).
+fn basis(poles: &Poles, s: &[Complex64]) -> DMatrix<Complex64> {
+    let mut row = Vec::new();
+    basis_row(poles, s[0], &mut row);
+    let mut out = DMatrix::zeros(s.len(), row.len());
+    for (k, &sk) in s.iter().enumerate() {
+        basis_row(poles, sk, &mut row);
+        for (j, x) in row.iter().enumerate() {
+            out[(k, j)] = *x;
+        }
+    }
+    out
+}
+
+/// Least squares `min |a x - b|` with column scaling (SVD, rank-revealing).
+fn least_squares(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let norms = DVector::from_fn(a.ncols(), |j, _| {
+        let n = a.column(j).norm();
+        if n > 0.0 {
+            n
+        } else {
+            1.0
+        }
+    });
+    let mut scaled = a.clone();
+    for j in 0..a.ncols() {
+        scaled.column_mut(j).unscale_mut(norms[j]);
+    }
+    let svd = scaled.svd(true, true);
+    let tol = 1e-13 * svd.singular_values.max();
+    let mut x = svd
+        .solve(b, tol)
+        .unwrap_or_else(|_| DMatrix::zeros(a.ncols(), b.ncols()));
+    for j in 0..a.ncols() {
+        x.row_mut(j).unscale_mut(norms[j]);
+    }
+    x
+}
+
+/// One relocation of the poles (module docs).
+fn relocate(poles: &Poles, s: &[Complex64], entries: &[DVector<Complex64>]) -> Poles {
+    let phi = basis(poles, s);
+    let (k, n) = (s.len(), phi.ncols());
+    let mut rows: Vec<DMatrix<f64>> = Vec::with_capacity(entries.len() + 1);
+    let mut data_norm = 0.0;
+    for f in entries {
+        data_norm += f.norm_squared();
+        // Real form of [phi, -f phi, -f]: 2K x (2N + 1).
+        let mut a = DMatrix::zeros(2 * k, 2 * n + 1);
+        for row in 0..k {
+            for j in 0..n {
+                let x = phi[(row, j)];
+                let y = -f[row] * x;
+                a[(row, j)] = x.re;
+                a[(k + row, j)] = x.im;
+                a[(row, n + j)] = y.re;
+                a[(k + row, n + j)] = y.im;
+            }
+            a[(row, 2 * n)] = -f[row].re;
+            a[(k + row, 2 * n)] = -f[row].im;
+        }
+        let r = a.qr().r();
+        let keep = r.nrows().saturating_sub(n).min(n + 1);
+        rows.push(r.view((n, n), (keep, n + 1)).into_owned());
+    }
+    // Relaxation: Re sum_k sigma(s_k) = K, weighted like the data.
+    let weight = data_norm.sqrt() / (k * entries.len()) as f64;
+    let mut relaxation = DMatrix::zeros(1, n + 1);
+    for j in 0..n {
+        relaxation[(0, j)] = weight * phi.column(j).iter().map(|x| x.re).sum::<f64>();
+    }
+    relaxation[(0, n)] = weight * k as f64;
+    rows.push(relaxation);
+    let total: usize = rows.iter().map(|m| m.nrows()).sum();
+    let mut system = DMatrix::zeros(total, n + 1);
+    let mut at = 0;
+    for m in &rows {
+        system.view_mut((at, 0), (m.nrows(), n + 1)).copy_from(m);
+        at += m.nrows();
+    }
+    let mut rhs = DMatrix::zeros(total, 1);
+    rhs[(total - 1, 0)] = weight * k as f64;
+    let x = least_squares(&system, &rhs);
+    let c = x.rows(0, n).column(0).into_owned();
+    let mut d = x[(n, 0)];
+    if d.abs() < 1e-8 {
+        d = 1e-8f64.copysign(d);
+    }
+    // Zeros of sigma: eig(H - b c^T / d).
+    let mut h = DMatrix::zeros(n, n);
+    let mut b = DVector::zeros(n);
+    let mut j = 0;
+    for p in poles {
+        if p.im == 0.0 {
+            h[(j, j)] = p.re;
+            b[j] = 1.0;
+            j += 1;
+        } else {
+            h[(j, j)] = p.re;
+            h[(j, j + 1)] = p.im;
+            h[(j + 1, j)] = -p.im;
+            h[(j + 1, j + 1)] = p.re;
+            b[j] = 2.0;
+            j += 2;
+        }
+    }
+    let zeros = (h - b * c.transpose() / d).complex_eigenvalues();
+    let largest = zeros.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let mut out: Poles = Vec::new();
+    for z in zeros.iter() {
+        let re = -z.re.abs().max(1e-12 * largest);
+        if z.im.abs() <= 1e-10 * largest {
+            out.push(Complex64::new(re, 0.0));
+        } else if z.im > 0.0 {
+            out.push(Complex64::new(re, z.im));
+        }
+    }
+    out.sort_by(|a, b| a.norm().total_cmp(&b.norm()).then(a.im.total_cmp(&b.im)));
+    out
+}
+
+/// Fits a common-pole rational model to `G = A~ - A_inf` over the band (module docs).
+pub fn vector_fit(
+    response: &FrequencyResponse,
+    params: &VectorFitParams,
+) -> Result<RationalFit, IdentifyError> {
+    response.validate()?;
+    let (lo, hi) = params.band;
+    if !(lo >= 0.0 && hi > lo) {
+        return Err(IdentifyError::InvalidBand(format!(
+            "({lo}, {hi}) rad/s: need 0 <= low < high"
+        )));
+    }
+    let order = 2 * params.complex_pairs + params.real_poles;
+    if order == 0 || params.iterations == 0 {
+        return Err(IdentifyError::InvalidParams(
+            "vector fitting needs at least one pole and one iteration".into(),
+        ));
+    }
+    let inside: Vec<usize> = (0..response.omega.len())
+        .filter(|&k| response.omega[k] >= lo && response.omega[k] <= hi)
+        .collect();
+    if inside.len() < order + 1 {
+        return Err(IdentifyError::InvalidBand(format!(
+            "{} frequency points in the band for {order} poles: need at least {}",
+            inside.len(),
+            order + 1
+        )));
+    }
+    let n = response.dof_count();
+    let band_matrices: Vec<DMatrix<Complex64>> = inside
+        .iter()
+        .map(|&k| response.added_mass[k].clone())
+        .collect();
+    let scales = dof_scales(&band_matrices)
+        .ok_or_else(|| IdentifyError::InvalidData("no added mass in the band".into()))?;
+    let omega_lo = response.omega[inside[0]];
+    let omega_hi = response.omega[inside[inside.len() - 1]];
+    let omega_ref = (omega_lo.max(1e-300) * omega_hi).sqrt();
+    let s: Vec<Complex64> = inside
+        .iter()
+        .map(|&k| Complex64::new(0.0, response.omega[k] / omega_ref))
+        .collect();
+    // Normalized entries i <= j.
+    let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
+    let entries: Vec<DVector<Complex64>> = pairs
+        .iter()
+        .map(|&(i, j)| {
+            let norm = (scales[i] * scales[j]).sqrt();
+            DVector::from_iterator(
+                inside.len(),
+                inside.iter().map(|&k| {
+                    (response.added_mass[k][(i, j)]
+                        - Complex64::new(response.added_mass_inf[(i, j)], 0.0))
+                        / norm
+                }),
+            )
+        })
+        .collect();
+
+    // Starting poles (scaled frequency).
+    let (b_lo, b_hi) = (omega_lo / omega_ref, omega_hi / omega_ref);
+    let spread = |count: usize, k: usize| {
+        if count == 1 {
+            (b_lo * b_hi).sqrt()
+        } else {
+            b_lo * (b_hi / b_lo).powf(k as f64 / (count - 1) as f64)
+        }
+    };
+    let mut poles: Poles = (0..params.complex_pairs)
+        .map(|k| {
+            let beta = spread(params.complex_pairs, k);
+            Complex64::new(-beta / 100.0, beta)
+        })
+        .chain((0..params.real_poles).map(|k| Complex64::new(-spread(params.real_poles, k), 0.0)))
+        .collect();
+    for _ in 0..params.iterations {
+        poles = relocate(&poles, &s, &entries);
+    }
+
+    // Residues with the final poles: one factorization, every entry a right-hand side.
+    let phi = basis(&poles, &s);
+    let (k, m) = (s.len(), phi.ncols());
+    let mut a = DMatrix::zeros(2 * k, m);
+    let mut rhs = DMatrix::zeros(2 * k, entries.len());
+    for row in 0..k {
+        for j in 0..m {
+            a[(row, j)] = phi[(row, j)].re;
+            a[(k + row, j)] = phi[(row, j)].im;
+        }
+        for (e, f) in entries.iter().enumerate() {
+            rhs[(row, e)] = f[row].re;
+            rhs[(k + row, e)] = f[row].im;
+        }
+    }
+    let x = least_squares(&a, &rhs);
+    let fitted = &a * &x;
+    let mut max_error: f64 = 0.0;
+    for e in 0..entries.len() {
+        for row in 0..k {
+            let d = Complex64::new(
+                fitted[(row, e)] - rhs[(row, e)],
+                fitted[(k + row, e)] - rhs[(k + row, e)],
+            );
+            max_error = max_error.max(d.norm());
+        }
+    }
+    // Back to SI: R = r omega_ref sqrt(s_i s_j) (G(s) = r / (s / omega_ref - p)).
+    let mut residues = Vec::with_capacity(poles.len());
+    let mut column = 0;
+    for p in &poles {
+        let mut r = DMatrix::zeros(n, n);
+        for (e, &(i, j)) in pairs.iter().enumerate() {
+            let norm = (scales[i] * scales[j]).sqrt() * omega_ref;
+            let value = if p.im == 0.0 {
+                Complex64::new(x[(column, e)], 0.0)
+            } else {
+                Complex64::new(x[(column, e)], x[(column + 1, e)])
+            } * norm;
+            r[(i, j)] = value;
+            r[(j, i)] = value;
+        }
+        column += if p.im == 0.0 { 1 } else { 2 };
+        residues.push(r);
+    }
+    Ok(RationalFit {
+        poles: poles.iter().map(|p| p * omega_ref).collect(),
+        residues,
+        dof_scales: scales,
+        max_error,
+    })
+}
+
+#[cfg(test)]
+mod tests;
