@@ -27,8 +27,14 @@
 //! left half-plane. After the iterations, the residues are the linear least-squares solution
 //! with the final poles (one factorization shared by all entries).
 //!
-//! The fit is not passive by construction; [`crate::passivity`] decides, exactly, whether a
-//! realization of it is.
+//! The free fit is not passive by construction; [`crate::passivity`] decides, exactly, whether
+//! a realization of it is. [`passive_vector_fit`] solves the residues again under linear
+//! constraints that make it passive (poles fixed), cut by cut, until the exact check passes.
+//! Measured on the semicircle (tests/identification.rs): sway 5 poles 0.0081 % free, 0.094 %
+//! passive; heave over kR 0.01 .. 4.5 with 6 poles 0.032 % free, 0.033 % passive. For many
+//! DOFs the cuts (one eigenvector each) converge slowly: the full 9 x 9 is not yet passive
+//! after 30 rounds. A passive rational model is not yet a network: its realization as one
+//! (and the use by `fit`) is the next step.
 
 use super::{dof_scales, FrequencyResponse, IdentifyError};
 use nalgebra::{DMatrix, DVector};
@@ -281,136 +287,396 @@ fn relocate(poles: &Poles, s: &[Complex64], entries: &[DVector<Complex64>]) -> P
     out
 }
 
+/// The normalized data of a fit: entries `i <= j` of `(A~ - A_inf) / sqrt(s_i s_j)` at the
+/// scaled frequencies `s_k = i omega_k / omega_ref` inside the band.
+struct Problem {
+    n: usize,
+    s: Vec<Complex64>,
+    pairs: Vec<(usize, usize)>,
+    entries: Vec<DVector<Complex64>>,
+    scales: DVector<f64>,
+    omega_ref: f64,
+}
+
+impl Problem {
+    fn new(
+        response: &FrequencyResponse,
+        params: &VectorFitParams,
+    ) -> Result<Problem, IdentifyError> {
+        response.validate()?;
+        let (lo, hi) = params.band;
+        if !(lo >= 0.0 && hi > lo) {
+            return Err(IdentifyError::InvalidBand(format!(
+                "({lo}, {hi}) rad/s: need 0 <= low < high"
+            )));
+        }
+        let order = 2 * params.complex_pairs + params.real_poles;
+        if order == 0 || params.iterations == 0 {
+            return Err(IdentifyError::InvalidParams(
+                "vector fitting needs at least one pole and one iteration".into(),
+            ));
+        }
+        let inside: Vec<usize> = (0..response.omega.len())
+            .filter(|&k| response.omega[k] >= lo && response.omega[k] <= hi)
+            .collect();
+        if inside.len() < order + 1 {
+            return Err(IdentifyError::InvalidBand(format!(
+                "{} frequency points in the band for {order} poles: need at least {}",
+                inside.len(),
+                order + 1
+            )));
+        }
+        let n = response.dof_count();
+        let band_matrices: Vec<DMatrix<Complex64>> = inside
+            .iter()
+            .map(|&k| response.added_mass[k].clone())
+            .collect();
+        let scales = dof_scales(&band_matrices)
+            .ok_or_else(|| IdentifyError::InvalidData("no added mass in the band".into()))?;
+        let omega_lo = response.omega[inside[0]];
+        let omega_hi = response.omega[inside[inside.len() - 1]];
+        let omega_ref = (omega_lo.max(1e-300) * omega_hi).sqrt();
+        let s: Vec<Complex64> = inside
+            .iter()
+            .map(|&k| Complex64::new(0.0, response.omega[k] / omega_ref))
+            .collect();
+        let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
+        let entries: Vec<DVector<Complex64>> = pairs
+            .iter()
+            .map(|&(i, j)| {
+                let norm = (scales[i] * scales[j]).sqrt();
+                DVector::from_iterator(
+                    inside.len(),
+                    inside.iter().map(|&k| {
+                        (response.added_mass[k][(i, j)]
+                            - Complex64::new(response.added_mass_inf[(i, j)], 0.0))
+                            / norm
+                    }),
+                )
+            })
+            .collect();
+        Ok(Problem {
+            n,
+            s,
+            pairs,
+            entries,
+            scales,
+            omega_ref,
+        })
+    }
+
+    /// Starting poles, then `iterations` relocations (module docs).
+    fn poles(&self, params: &VectorFitParams) -> Poles {
+        let (b_lo, b_hi) = (self.s[0].im, self.s[self.s.len() - 1].im);
+        let spread = |count: usize, k: usize| {
+            if count == 1 {
+                (b_lo * b_hi).sqrt()
+            } else {
+                b_lo * (b_hi / b_lo).powf(k as f64 / (count - 1) as f64)
+            }
+        };
+        let mut poles: Poles = (0..params.complex_pairs)
+            .map(|k| {
+                let beta = spread(params.complex_pairs, k);
+                Complex64::new(-beta / 100.0, beta)
+            })
+            .chain(
+                (0..params.real_poles).map(|k| Complex64::new(-spread(params.real_poles, k), 0.0)),
+            )
+            .collect();
+        for _ in 0..params.iterations {
+            poles = relocate(&poles, &self.s, &self.entries);
+        }
+        poles
+    }
+
+    /// The real least-squares system of the residues: `a` (2K x N) and one right-hand side
+    /// per entry (2K x entries).
+    fn residue_system(&self, poles: &Poles) -> (DMatrix<f64>, DMatrix<f64>) {
+        let phi = basis(poles, &self.s);
+        let (k, m) = (self.s.len(), phi.ncols());
+        let mut a = DMatrix::zeros(2 * k, m);
+        let mut rhs = DMatrix::zeros(2 * k, self.entries.len());
+        for row in 0..k {
+            for j in 0..m {
+                a[(row, j)] = phi[(row, j)].re;
+                a[(k + row, j)] = phi[(row, j)].im;
+            }
+            for (e, f) in self.entries.iter().enumerate() {
+                rhs[(row, e)] = f[row].re;
+                rhs[(k + row, e)] = f[row].im;
+            }
+        }
+        (a, rhs)
+    }
+
+    /// Largest `|fit - data|` (normalized) for coefficients `x` (N x entries).
+    fn max_error(&self, a: &DMatrix<f64>, rhs: &DMatrix<f64>, x: &DMatrix<f64>) -> f64 {
+        let k = self.s.len();
+        let fitted = a * x;
+        let mut max_error: f64 = 0.0;
+        for e in 0..self.entries.len() {
+            for row in 0..k {
+                let d = Complex64::new(
+                    fitted[(row, e)] - rhs[(row, e)],
+                    fitted[(k + row, e)] - rhs[(k + row, e)],
+                );
+                max_error = max_error.max(d.norm());
+            }
+        }
+        max_error
+    }
+
+    /// The model of coefficients `x`: in SI (`normalized = false`) or in the normalized
+    /// problem's units (scaled frequency, unit DOF scales).
+    fn model(
+        &self,
+        poles: &Poles,
+        x: &DMatrix<f64>,
+        max_error: f64,
+        normalized: bool,
+    ) -> RationalFit {
+        let n = self.n;
+        let (frequency, scales) = if normalized {
+            (1.0, DVector::from_element(n, 1.0))
+        } else {
+            (self.omega_ref, self.scales.clone())
+        };
+        // R = r omega_ref sqrt(s_i s_j) (G(s) = r / (s / omega_ref - p)).
+        let mut residues = Vec::with_capacity(poles.len());
+        let mut column = 0;
+        for p in poles {
+            let mut r = DMatrix::zeros(n, n);
+            for (e, &(i, j)) in self.pairs.iter().enumerate() {
+                let norm = (scales[i] * scales[j]).sqrt() * frequency;
+                let value = if p.im == 0.0 {
+                    Complex64::new(x[(column, e)], 0.0)
+                } else {
+                    Complex64::new(x[(column, e)], x[(column + 1, e)])
+                } * norm;
+                r[(i, j)] = value;
+                r[(j, i)] = value;
+            }
+            column += if p.im == 0.0 { 1 } else { 2 };
+            residues.push(r);
+        }
+        RationalFit {
+            poles: poles.iter().map(|p| p * frequency).collect(),
+            residues,
+            dof_scales: scales,
+            max_error,
+        }
+    }
+}
+
 /// Fits a common-pole rational model to `G = A~ - A_inf` over the band (module docs).
 pub fn vector_fit(
     response: &FrequencyResponse,
     params: &VectorFitParams,
 ) -> Result<RationalFit, IdentifyError> {
-    response.validate()?;
-    let (lo, hi) = params.band;
-    if !(lo >= 0.0 && hi > lo) {
-        return Err(IdentifyError::InvalidBand(format!(
-            "({lo}, {hi}) rad/s: need 0 <= low < high"
-        )));
-    }
-    let order = 2 * params.complex_pairs + params.real_poles;
-    if order == 0 || params.iterations == 0 {
-        return Err(IdentifyError::InvalidParams(
-            "vector fitting needs at least one pole and one iteration".into(),
-        ));
-    }
-    let inside: Vec<usize> = (0..response.omega.len())
-        .filter(|&k| response.omega[k] >= lo && response.omega[k] <= hi)
-        .collect();
-    if inside.len() < order + 1 {
-        return Err(IdentifyError::InvalidBand(format!(
-            "{} frequency points in the band for {order} poles: need at least {}",
-            inside.len(),
-            order + 1
-        )));
-    }
-    let n = response.dof_count();
-    let band_matrices: Vec<DMatrix<Complex64>> = inside
-        .iter()
-        .map(|&k| response.added_mass[k].clone())
-        .collect();
-    let scales = dof_scales(&band_matrices)
-        .ok_or_else(|| IdentifyError::InvalidData("no added mass in the band".into()))?;
-    let omega_lo = response.omega[inside[0]];
-    let omega_hi = response.omega[inside[inside.len() - 1]];
-    let omega_ref = (omega_lo.max(1e-300) * omega_hi).sqrt();
-    let s: Vec<Complex64> = inside
-        .iter()
-        .map(|&k| Complex64::new(0.0, response.omega[k] / omega_ref))
-        .collect();
-    // Normalized entries i <= j.
-    let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
-    let entries: Vec<DVector<Complex64>> = pairs
-        .iter()
-        .map(|&(i, j)| {
-            let norm = (scales[i] * scales[j]).sqrt();
-            DVector::from_iterator(
-                inside.len(),
-                inside.iter().map(|&k| {
-                    (response.added_mass[k][(i, j)]
-                        - Complex64::new(response.added_mass_inf[(i, j)], 0.0))
-                        / norm
-                }),
-            )
-        })
-        .collect();
-
-    // Starting poles (scaled frequency).
-    let (b_lo, b_hi) = (omega_lo / omega_ref, omega_hi / omega_ref);
-    let spread = |count: usize, k: usize| {
-        if count == 1 {
-            (b_lo * b_hi).sqrt()
-        } else {
-            b_lo * (b_hi / b_lo).powf(k as f64 / (count - 1) as f64)
-        }
-    };
-    let mut poles: Poles = (0..params.complex_pairs)
-        .map(|k| {
-            let beta = spread(params.complex_pairs, k);
-            Complex64::new(-beta / 100.0, beta)
-        })
-        .chain((0..params.real_poles).map(|k| Complex64::new(-spread(params.real_poles, k), 0.0)))
-        .collect();
-    for _ in 0..params.iterations {
-        poles = relocate(&poles, &s, &entries);
-    }
-
-    // Residues with the final poles: one factorization, every entry a right-hand side.
-    let phi = basis(&poles, &s);
-    let (k, m) = (s.len(), phi.ncols());
-    let mut a = DMatrix::zeros(2 * k, m);
-    let mut rhs = DMatrix::zeros(2 * k, entries.len());
-    for row in 0..k {
-        for j in 0..m {
-            a[(row, j)] = phi[(row, j)].re;
-            a[(k + row, j)] = phi[(row, j)].im;
-        }
-        for (e, f) in entries.iter().enumerate() {
-            rhs[(row, e)] = f[row].re;
-            rhs[(k + row, e)] = f[row].im;
-        }
-    }
+    let problem = Problem::new(response, params)?;
+    let poles = problem.poles(params);
+    let (a, rhs) = problem.residue_system(&poles);
     let x = least_squares(&a, &rhs);
-    let fitted = &a * &x;
-    let mut max_error: f64 = 0.0;
-    for e in 0..entries.len() {
-        for row in 0..k {
-            let d = Complex64::new(
-                fitted[(row, e)] - rhs[(row, e)],
-                fitted[(k + row, e)] - rhs[(k + row, e)],
-            );
-            max_error = max_error.max(d.norm());
-        }
+    let error = problem.max_error(&a, &rhs, &x);
+    Ok(problem.model(&poles, &x, error, false))
+}
+
+/// How [`passive_vector_fit`] made the fit passive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Enforcement {
+    /// The free fit's largest normalized error (before the constraints).
+    pub free_error: f64,
+    /// Constraint rounds (each adds the cuts of the violations the check found).
+    pub rounds: usize,
+    /// Linear constraints in the final solve.
+    pub cuts: usize,
+    /// The exact check ([`crate::passivity`]) passes on the result.
+    pub passive: bool,
+}
+
+/// Largest number of constraint rounds of [`passive_vector_fit`].
+const MAX_ROUNDS: usize = 30;
+
+/// [`vector_fit`], then the residues again, least squares under the constraints that make the
+/// model passive (poles fixed; convex):
+///
+/// ```text
+/// v^T Re K(i omega_c) v >= 0  at each violation omega_c found,   v^T K(inf) v >= 0,
+/// ```
+///
+/// `K(s) = s G(s)` the impedance, `v` the eigenvector of the most negative eigenvalue there.
+/// Each round runs the exact check on the current model, samples the smallest eigenvalue of
+/// `Re K` on a log grid (1601 points from 1e-4 of the band's bottom to 1e4 times its top)
+/// together with the check's crossings, adds a cut at every local minimum below
+/// zero (and at `omega -> inf` if `K(inf)` is indefinite), and solves again, until the check
+/// passes or 30 rounds.
+pub fn passive_vector_fit(
+    response: &FrequencyResponse,
+    params: &VectorFitParams,
+) -> Result<(RationalFit, Enforcement), IdentifyError> {
+    use crate::numerics::triangular_inequality_least_squares;
+    use crate::passivity::{check_realization, Realization};
+
+    let problem = Problem::new(response, params)?;
+    let poles = problem.poles(params);
+    let (a, rhs) = problem.residue_system(&poles);
+    let (basis_size, entries) = (a.ncols(), rhs.ncols());
+    // Block-diagonal problem: one QR of the basis, every entry its own right-hand side.
+    let qr = a.clone().qr();
+    let r_block = qr.r();
+    let c_block = qr.q().tr_mul(&rhs);
+    let size = basis_size * entries;
+    let mut r = DMatrix::zeros(size, size);
+    let mut c = DVector::zeros(size);
+    for e in 0..entries {
+        r.view_mut((e * basis_size, e * basis_size), (basis_size, basis_size))
+            .copy_from(&r_block);
+        c.rows_mut(e * basis_size, basis_size)
+            .copy_from(&c_block.column(e));
     }
-    // Back to SI: R = r omega_ref sqrt(s_i s_j) (G(s) = r / (s / omega_ref - p)).
-    let mut residues = Vec::with_capacity(poles.len());
-    let mut column = 0;
-    for p in &poles {
-        let mut r = DMatrix::zeros(n, n);
-        for (e, &(i, j)) in pairs.iter().enumerate() {
-            let norm = (scales[i] * scales[j]).sqrt() * omega_ref;
-            let value = if p.im == 0.0 {
-                Complex64::new(x[(column, e)], 0.0)
+    let as_matrix =
+        |x: &DVector<f64>| DMatrix::from_column_slice(basis_size, entries, x.as_slice());
+    let free = least_squares(&a, &rhs);
+    let free_error = problem.max_error(&a, &rhs, &free);
+    let mut x = DVector::from_column_slice(free.as_slice());
+
+    // K(inf) = sum of residues: coefficient 1 per real pole, (2, 0) per pair.
+    let kinf: Vec<f64> = poles
+        .iter()
+        .flat_map(|p| {
+            if p.im == 0.0 {
+                vec![1.0]
             } else {
-                Complex64::new(x[(column, e)], x[(column + 1, e)])
-            } * norm;
-            r[(i, j)] = value;
-            r[(j, i)] = value;
+                vec![2.0, 0.0]
+            }
+        })
+        .collect();
+    let (b_lo, b_hi) = (problem.s[0].im, problem.s[problem.s.len() - 1].im);
+    let grid: Vec<f64> = (0..=1600)
+        .map(|k| 1e-4 * b_lo * (1e8 * b_hi / b_lo).powf(k as f64 / 1600.0))
+        .collect();
+    let n = problem.n;
+    let symmetric = |values: &dyn Fn(usize) -> f64| {
+        let mut m = DMatrix::zeros(n, n);
+        for (e, &(i, j)) in problem.pairs.iter().enumerate() {
+            m[(i, j)] = values(e);
+            m[(j, i)] = values(e);
         }
-        column += if p.im == 0.0 { 1 } else { 2 };
-        residues.push(r);
+        m
+    };
+    let mut cuts: Vec<DVector<f64>> = Vec::new();
+    let mut rounds = 0;
+    let mut passive = false;
+    let tolerance = 1e-9;
+    loop {
+        let model = problem.model(&poles, &as_matrix(&x), 0.0, true);
+        let [ra, rb, rc, rd] = model.impedance_realization();
+        let report = check_realization(
+            &Realization {
+                a: &ra,
+                b: &rb,
+                c: &rc,
+                d: &rd,
+            },
+            tolerance,
+        );
+        if report.passive {
+            passive = true;
+            break;
+        }
+        if rounds == MAX_ROUNDS {
+            break;
+        }
+        rounds += 1;
+        // Smallest eigenvalue of Re K on the grid and at the crossings.
+        let mut frequencies = grid.clone();
+        frequencies.extend(&report.crossings);
+        frequencies.extend(report.crossings.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+        frequencies.push(report.at_omega);
+        frequencies.sort_by(f64::total_cmp);
+        let lowest: Vec<(f64, DVector<f64>)> = frequencies
+            .iter()
+            .map(|&w| {
+                let k = model.evaluate(w) * Complex64::new(0.0, w);
+                let re = (&k + k.adjoint()).map(|z| z.re) * 0.5;
+                let eig = re.symmetric_eigen();
+                let m = eig.eigenvalues.imin();
+                (eig.eigenvalues[m], eig.eigenvectors.column(m).into_owned())
+            })
+            .collect();
+        let floor = -tolerance * report.scale;
+        let phi_row = |w: f64| {
+            let mut row = Vec::new();
+            basis_row(&poles, Complex64::new(0.0, w), &mut row);
+            row
+        };
+        let mut added = 0;
+        for k in 0..lowest.len() {
+            let here = lowest[k].0;
+            let left = if k > 0 {
+                lowest[k - 1].0
+            } else {
+                f64::INFINITY
+            };
+            let right = lowest.get(k + 1).map_or(f64::INFINITY, |l| l.0);
+            if here < floor && here <= left && here <= right {
+                let w = frequencies[k];
+                let v = &lowest[k].1;
+                // v^T Re(i w G) v, linear in x: coefficient of x_(e, j).
+                let row = phi_row(w);
+                let mut cut = DVector::zeros(size);
+                for (e, &(i, j)) in problem.pairs.iter().enumerate() {
+                    let weight = v[i] * v[j] * if i == j { 1.0 } else { 2.0 };
+                    for (col, phi) in row.iter().enumerate() {
+                        cut[e * basis_size + col] = weight * (Complex64::new(0.0, w) * phi).re;
+                    }
+                }
+                cuts.push(cut);
+                added += 1;
+            }
+        }
+        let k_inf = symmetric(&|e| {
+            (0..basis_size)
+                .map(|col| kinf[col] * x[e * basis_size + col])
+                .sum::<f64>()
+        });
+        let eig = k_inf.symmetric_eigen();
+        let m = eig.eigenvalues.imin();
+        if eig.eigenvalues[m] < floor {
+            let v = eig.eigenvectors.column(m);
+            let mut cut = DVector::zeros(size);
+            for (e, &(i, j)) in problem.pairs.iter().enumerate() {
+                let weight = v[i] * v[j] * if i == j { 1.0 } else { 2.0 };
+                for col in 0..basis_size {
+                    cut[e * basis_size + col] = weight * kinf[col];
+                }
+            }
+            cuts.push(cut);
+            added += 1;
+        }
+        if added == 0 {
+            break;
+        }
+        let g = DMatrix::from_fn(cuts.len(), size, |row, col| cuts[row][col]);
+        // A small positive margin so that the next model clears the check's tolerance.
+        let h = DVector::from_element(cuts.len(), 2.0 * tolerance * report.scale);
+        match triangular_inequality_least_squares(&r, &c, &g, &h) {
+            Some(next) => x = next,
+            None => break,
+        }
     }
-    Ok(RationalFit {
-        poles: poles.iter().map(|p| p * omega_ref).collect(),
-        residues,
-        dof_scales: scales,
-        max_error,
-    })
+    let xm = as_matrix(&x);
+    let error = problem.max_error(&a, &rhs, &xm);
+    Ok((
+        problem.model(&poles, &xm, error, false),
+        Enforcement {
+            free_error,
+            rounds,
+            cuts: cuts.len(),
+            passive,
+        },
+    ))
 }
 
 #[cfg(test)]

@@ -171,3 +171,35 @@ fn the_impedance_realization_reproduces_s_times_the_model() {
         assert!(largest(&(force - &expected)) < 1e-12 * largest(&expected));
     }
 }
+
+#[test]
+fn enforcement_leaves_a_passive_fit_alone() {
+    // The synthetic model: is its impedance passive? Either way, the enforced fit must pass the
+    // check, and a model that already passes keeps the free residues (no round).
+    let (response, _, _) = synthetic();
+    let params = VectorFitParams {
+        complex_pairs: 2,
+        real_poles: 1,
+        ..VectorFitParams::default()
+    };
+    let (fit, enforcement) = passive_vector_fit(&response, &params).unwrap();
+    assert!(enforcement.passive, "{enforcement:?}");
+    let free = vector_fit(&response, &params).unwrap();
+    let [a, b, c, d] = free.impedance_realization();
+    let free_report = crate::passivity::check_realization(
+        &crate::passivity::Realization {
+            a: &a,
+            b: &b,
+            c: &c,
+            d: &d,
+        },
+        1e-9,
+    );
+    if free_report.passive {
+        assert_eq!(enforcement.rounds, 0);
+        assert!(fit.max_error < 1e-10);
+    } else {
+        assert!(enforcement.rounds > 0 && enforcement.cuts > 0);
+        assert!(fit.max_error >= free.max_error);
+    }
+}
