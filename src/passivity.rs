@@ -50,9 +50,9 @@ pub struct PassivityReport {
     /// The frequencies (rad/s, ascending) where an eigenvalue of `Re Z + eps I` reaches zero.
     pub crossings: Vec<f64>,
     /// The smallest eigenvalue of `Re Z(i omega)` over the tested frequencies (crossings,
-    /// interval midpoints, 0 and beyond the last crossing), relative to `scale`, and where.
+    /// interval midpoints, 0, beyond the last crossing and omega -> inf), relative to `scale`.
     pub min_eigenvalue: f64,
-    /// The frequency (rad/s) of `min_eigenvalue`.
+    /// The frequency (rad/s) of `min_eigenvalue` (infinite: the direct feedthrough).
     pub at_omega: f64,
 }
 
@@ -205,6 +205,12 @@ pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityRepor
             min_eigenvalue = smallest;
             at_omega = omega;
         }
+    }
+    // omega -> inf: Re Z = -(D + D^T) / 2 (exact; a finite test frequency may miss it).
+    let at_infinity = (-(system.d + system.d.transpose()) * 0.5).symmetric_eigenvalues();
+    if n > 0 && at_infinity.min() < min_eigenvalue {
+        min_eigenvalue = at_infinity.min();
+        at_omega = f64::INFINITY;
     }
     let min_eigenvalue = min_eigenvalue / scale;
     PassivityReport {

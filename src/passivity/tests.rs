@@ -92,3 +92,13 @@ fn an_unstable_network_is_not_passive() {
     let report = check(&s, 1e-9);
     assert!(!report.stable && !report.passive);
 }
+
+#[test]
+fn a_negative_direct_damper_is_found_at_infinite_frequency() {
+    // A damper of -c straight to the hull (no states): Re Z = -c at every frequency.
+    let mut s = system(SEED);
+    s.d = DMatrix::from_element(1, 1, 1.0);
+    let report = check(&s, 1e-9);
+    assert!(!report.passive);
+    assert!(report.min_eigenvalue < 0.0);
+}
