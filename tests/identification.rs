@@ -321,3 +321,37 @@ fn passive_vector_fitting_meets_the_one_dof_targets() {
         assert!(report.passive, "{report:?}");
     }
 }
+
+/// The full 9 x 9: passive vector fitting per invariant block (the semicircle's symmetric and
+/// antisymmetric motions, found from the data), each with its own poles. Target: at most 30
+/// states at the 1 % tolerance (peer as reported: 25 states, 0.99 %).
+#[test]
+fn passive_block_vector_fitting_meets_the_nine_dof_target() {
+    use hydrofmu::identify::vector_fitting::{passive_block_vector_fit, VectorFitParams};
+    use hydrofmu::passivity::{check_realization, Realization};
+    let band = (omega_of(0.05) * 0.999, omega_of(4.5) * 1.001);
+    let params = VectorFitParams {
+        complex_pairs: 2,
+        real_poles: 1,
+        band,
+        ..VectorFitParams::default()
+    };
+    let (fit, enforcements) = passive_block_vector_fit(semicircle(), &params).unwrap();
+    // Blocks of 2 and 3 dimensions (5 of the 9 DOFs' directions carry the data).
+    assert_eq!(enforcements.len(), 2);
+    assert!(enforcements.iter().all(|e| e.passive), "{enforcements:?}");
+    // Measured 0.764 % with 25 states.
+    assert!(fit.max_error < 0.01, "{}", fit.max_error);
+    assert!(fit.state_count() <= 30, "{}", fit.state_count());
+    let [a, b, c, d] = fit.impedance_realization();
+    let report = check_realization(
+        &Realization {
+            a: &a,
+            b: &b,
+            c: &c,
+            d: &d,
+        },
+        1e-9,
+    );
+    assert!(report.passive, "{report:?}");
+}

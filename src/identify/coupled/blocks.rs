@@ -17,7 +17,7 @@ use crate::numerics::SplitMix64;
 
 /// Singular values of the commutator map below this fraction of the largest span the
 /// commutant.
-pub(super) const COMMUTANT_THRESHOLD: f64 = 1e-6;
+pub(in crate::identify) const COMMUTANT_THRESHOLD: f64 = 1e-6;
 
 /// Largest coupling between invariant blocks (normalized) that the split may drop, as a
 /// fraction of the tolerance.
@@ -203,7 +203,10 @@ pub(super) fn commutant(target: &[DMatrix<Complex64>], threshold: f64) -> Vec<DM
 /// Orthogonal split of the reduced space into subspaces that every target matrix leaves
 /// invariant (see the module docs): orthonormal bases (r x r_b), or one block (the identity)
 /// if the data has no such structure.
-pub(super) fn invariant_blocks(target: &[DMatrix<Complex64>], threshold: f64) -> Vec<DMatrix<f64>> {
+pub(in crate::identify) fn invariant_blocks(
+    target: &[DMatrix<Complex64>],
+    threshold: f64,
+) -> Vec<DMatrix<f64>> {
     let r = target[0].nrows();
     let whole = vec![DMatrix::identity(r, r)];
     if r < 2 {

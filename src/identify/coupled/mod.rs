@@ -11,7 +11,7 @@
 //! - [`refine`]: joint minimax refinement of dynamics and weight factors.
 //! - [`branches`]: branches of the network from the weights, pruning, order.
 
-mod blocks;
+pub(in crate::identify) mod blocks;
 mod branches;
 mod dictionary;
 mod groups;
