@@ -92,23 +92,8 @@ impl Realization<'_> {
         self.b.ncols()
     }
 
-    /// `C (sI - A)^-1 B + D`.
     fn transfer(&self, s: Complex64) -> DMatrix<Complex64> {
-        let n = self.state_count();
-        let d = self.d.map(|x| Complex64::new(x, 0.0));
-        if n == 0 {
-            return d;
-        }
-        let mut shifted = self.a.map(|x| Complex64::new(-x, 0.0));
-        for i in 0..n {
-            shifted[(i, i)] += s;
-        }
-        let b = self.b.map(|x| Complex64::new(x, 0.0));
-        let c = self.c.map(|x| Complex64::new(x, 0.0));
-        match shifted.lu().solve(&b) {
-            Some(x) => c * x + d,
-            None => DMatrix::from_element(d.nrows(), d.ncols(), Complex64::new(f64::NAN, 0.0)),
-        }
+        crate::realize::transfer_function(self.a, self.b, self.c, self.d, s)
     }
 }
 

@@ -80,6 +80,32 @@ pub struct StateSpace {
     pub branch_states: Vec<Vec<usize>>,
 }
 
+/// `C (sI - A)^-1 B + D` of any real state-space model (NaN entries when `sI - A` is
+/// singular).
+pub fn transfer_function(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    d: &DMatrix<f64>,
+    s: Complex64,
+) -> DMatrix<Complex64> {
+    let n = a.nrows();
+    let d = d.map(|x| Complex64::new(x, 0.0));
+    if n == 0 {
+        return d;
+    }
+    let mut shifted = a.map(|x| Complex64::new(-x, 0.0));
+    for i in 0..n {
+        shifted[(i, i)] += s;
+    }
+    let b = b.map(|x| Complex64::new(x, 0.0));
+    let c = c.map(|x| Complex64::new(x, 0.0));
+    match shifted.lu().solve(&b) {
+        Some(x) => c * x + d,
+        None => DMatrix::from_element(d.nrows(), d.ncols(), Complex64::new(f64::NAN, 0.0)),
+    }
+}
+
 impl StateSpace {
     /// Number of states (2 x auxiliary masses).
     pub fn state_count(&self) -> usize {
@@ -93,21 +119,7 @@ impl StateSpace {
 
     /// Transfer function `F(s) / v(s) = C (sI - A)^-1 B + D`.
     pub fn transfer(&self, s: Complex64) -> DMatrix<Complex64> {
-        let n = self.state_count();
-        let d = self.d.map(|x| Complex64::new(x, 0.0));
-        if n == 0 {
-            return d;
-        }
-        let mut shifted = self.a.map(|x| Complex64::new(-x, 0.0));
-        for i in 0..n {
-            shifted[(i, i)] += s;
-        }
-        let b = self.b.map(|x| Complex64::new(x, 0.0));
-        let c = self.c.map(|x| Complex64::new(x, 0.0));
-        match shifted.lu().solve(&b) {
-            Some(x) => c * x + d,
-            None => DMatrix::from_element(d.nrows(), d.ncols(), Complex64::new(f64::NAN, 0.0)),
-        }
+        transfer_function(&self.a, &self.b, &self.c, &self.d, s)
     }
 
     /// Direct velocity feedthrough as a damping matrix: `-D` (symmetric PSD).

@@ -104,8 +104,9 @@ def _header_and_rows(text: str):
 
 def sweep_coefficients(hull_args: list[str], kr_grid: str, rho: float = RHO, g: float = G) -> list[Coefficients]:
     """`fmu-pack sweep HULL_ARGS --kr KR_GRID --excitation` (the panel method's own values at
-    each kR of the grid, `lo:hi:n` log-spaced), read into SI: A~ = value rho pi R^2 R^(e_i + e_j),
-    X = value rho g R^(1 + e_j) (docs/WAVES.md; e_j the DOF's length exponent)."""
+    each kR of the grid, `lo:hi:n` log-spaced), read into SI: A~ = value rho pi R^2 (DESIGN.md,
+    as `FrequencyResponse::from_sweep`), X = value rho g R^(1 + e_j) (docs/WAVES.md; e_j the
+    DOF's length exponent)."""
     with tempfile.TemporaryDirectory() as tmp:
         radiation_path = pathlib.Path(tmp) / "added_mass.csv"
         excitation_text = fmu_pack(
@@ -136,8 +137,7 @@ def sweep_coefficients(hull_args: list[str], kr_grid: str, rho: float = RHO, g: 
         if float(k) == 0.0 or not np.isfinite(float(k)):
             continue  # the limits' rows
         i, j = int(i) - 1, int(j) - 1
-        scale = rho * np.pi * radius**2 * radius ** (exponents[i] + exponents[j])
-        at(float(k)).added_mass[i, j] = complex(float(re), float(im)) * scale
+        at(float(k)).added_mass[i, j] = complex(float(re), float(im)) * rho * np.pi * radius**2
     return [by_kr[kr] for kr in sorted(by_kr)]
 
 

@@ -141,6 +141,20 @@ impl RationalFit {
         [a, b, c, d]
     }
 
+    /// The exact passivity check ([`crate::passivity`]) of [`Self::impedance_realization`].
+    pub fn passivity(&self, tolerance: f64) -> crate::passivity::PassivityReport {
+        let [a, b, c, d] = self.impedance_realization();
+        crate::passivity::check_realization(
+            &crate::passivity::Realization {
+                a: &a,
+                b: &b,
+                c: &c,
+                d: &d,
+            },
+            tolerance,
+        )
+    }
+
     /// States of a minimal realization: per pole the rank of its residue (singular values
     /// above `1e-9` of the largest residue's), twice for a conjugate pair.
     pub fn state_count(&self) -> usize {
@@ -659,7 +673,6 @@ pub fn passive_block_vector_fit(
 /// The poles and the passive residues of a normalized problem (see [`passive_vector_fit`]).
 fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>, Enforcement) {
     use crate::numerics::triangular_inequality_least_squares;
-    use crate::passivity::{check_realization, Realization};
 
     let poles = problem.poles(params);
     let (a, rhs) = problem.residue_system(&poles);
@@ -713,16 +726,7 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
     let tolerance = 1e-9;
     loop {
         let model = problem.model(&poles, &as_matrix(&x), 0.0, true);
-        let [ra, rb, rc, rd] = model.impedance_realization();
-        let report = check_realization(
-            &Realization {
-                a: &ra,
-                b: &rb,
-                c: &rc,
-                d: &rd,
-            },
-            tolerance,
-        );
+        let report = model.passivity(tolerance);
         if report.passive {
             passive = true;
             break;
