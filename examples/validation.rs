@@ -829,7 +829,9 @@ fn identification(doc: &mut String, semi: &SweepResult) {
 
     // Figure 7: unit impulse on a 1 kg body attached to the seed's network (eq. 19).
     let body_mass = 1.0;
-    let matrices = seed.augmented_matrices();
+    let matrices = seed
+        .augmented_matrices()
+        .expect("the seed network has branches only");
     let mut mass = matrices.mass.clone();
     mass[(0, 0)] += body_mass;
     let inverse_mass = mass.clone().try_inverse().expect("mass matrix");

@@ -75,9 +75,15 @@ pub struct StateSpace {
     pub b_branch: DMatrix<f64>,
     /// Force along each branch direction (r x 2N).
     pub c_branch: DMatrix<f64>,
-    /// The states of each branch (its elongations, then its aux velocities). `A` couples no
-    /// two branches, and column (row) b of `b_branch` (`c_branch`) is zero outside branch b.
+    /// The states of each branch (its elongations, then its aux velocities), then of each
+    /// substructure. `A` couples no two of these groups, and column (row) r of `b_branch`
+    /// (`c_branch`) is zero outside the group whose `branch_inputs` hold r.
     pub branch_states: Vec<Vec<usize>>,
+    /// The inputs (rows of `branch_directions`) of each group: one per branch, the n hull
+    /// velocities for a substructure.
+    pub branch_inputs: Vec<std::ops::Range<usize>>,
+    /// The substructures, each with its first state.
+    pub substructures: Vec<(usize, crate::network::Substructure)>,
 }
 
 /// `C (sI - A)^-1 B + D` of any real state-space model (NaN entries when `sI - A` is
@@ -142,14 +148,30 @@ impl StateSpace {
         &self.a * z + &self.b * v
     }
 
-    /// Dissipated power `e'^T diag(c) e'` (>= 0).
+    /// Dissipated power (>= 0): `e'^T diag(c) e'` of the branches' dampers, and per
+    /// substructure `e^T R e + [u; v]^T C [u; v]`.
     pub fn dissipation(&self, z: &DVector<f64>, v: &DVector<f64>) -> f64 {
         let rates = self.derivative(z, v);
-        self.elongation_damping
+        let branches: f64 = self
+            .elongation_damping
             .iter()
             .enumerate()
             .map(|(j, c)| c * rates[j] * rates[j])
-            .sum()
+            .sum();
+        let substructures: f64 = self
+            .substructures
+            .iter()
+            .map(|(first, sub)| {
+                let ns = sub.spring_count();
+                let e = z.rows(*first, ns);
+                let mut uv = DVector::zeros(sub.damping.nrows());
+                uv.rows_mut(0, sub.masses)
+                    .copy_from(&z.rows(first + ns, sub.masses));
+                uv.rows_mut(sub.masses, v.len()).copy_from(v);
+                e.dot(&(&sub.spring_relaxation * e)) + uv.dot(&(&sub.damping * &uv))
+            })
+            .sum();
+        branches + substructures
     }
 }
 
@@ -157,7 +179,7 @@ impl Network {
     /// Incidence rows of all springs over `[q; aux]` and their (stiffness, damping, mass).
     fn springs(&self) -> (DMatrix<f64>, Vec<Stage>) {
         let n = self.dof_count();
-        let na = self.aux_dof_count();
+        let na: usize = self.branches.iter().map(|b| b.stages.len()).sum();
         let mut incidence = DMatrix::zeros(na, n + na);
         let mut stages = Vec::with_capacity(na);
         let mut row = 0;
@@ -178,8 +200,15 @@ impl Network {
         (incidence, stages)
     }
 
-    /// Augmented `M`, `C`, `K` over `[q; aux masses]` (seed eq. 19; body mass not included).
-    pub fn augmented_matrices(&self) -> AugmentedMatrices {
+    /// Augmented `M`, `C`, `K` over `[q; aux masses]` (seed eq. 19; body mass not included),
+    /// for the branches; a network with substructures is refused (a relaxed spring has no
+    /// place in `M`, `C`, `K`).
+    pub fn augmented_matrices(&self) -> Result<AugmentedMatrices, NetworkError> {
+        if !self.substructures.is_empty() {
+            return Err(NetworkError::Invalid(
+                "augmented matrices cover branches only; this network has substructures".into(),
+            ));
+        }
         let n = self.dof_count();
         let (incidence, stages) = self.springs();
         let total = incidence.ncols();
@@ -195,11 +224,11 @@ impl Network {
             damping += &outer * stage.damping;
             stiffness += &outer * stage.stiffness;
         }
-        AugmentedMatrices {
+        Ok(AugmentedMatrices {
             mass,
             damping,
             stiffness,
-        }
+        })
     }
 
     /// First-order realization (see the module docs). Validates the network first.
@@ -269,6 +298,48 @@ impl Network {
         c_branch
             .view_mut((0, na), (r, na))
             .copy_from(&(-(select.transpose() * &c_diag) * &e_x));
+        let mut branch_inputs: Vec<std::ops::Range<usize>> = (0..r).map(|j| j..j + 1).collect();
+        // Substructures: their states after the branches', their inputs the hull velocities.
+        let extra: usize = self.substructures.iter().map(|sub| sub.state_count()).sum();
+        let (total, inputs) = (2 * na + extra, r + n * self.substructures.len());
+        let grow = |m: &DMatrix<f64>, rows: usize, cols: usize| {
+            let mut out = DMatrix::zeros(rows, cols);
+            out.view_mut((0, 0), (m.nrows(), m.ncols())).copy_from(m);
+            out
+        };
+        let mut a = grow(&a, total, total);
+        let mut b = grow(&b, total, n);
+        let mut c = grow(&c, n, total);
+        let mut energy_weight = grow(&energy_weight, total, total);
+        let mut branch_directions = grow(&branch_directions, inputs, n);
+        let mut b_branch = grow(&b_branch, total, inputs);
+        let mut c_branch = grow(&c_branch, inputs, total);
+        let mut substructures = Vec::with_capacity(self.substructures.len());
+        let (mut first, mut input) = (2 * na, r);
+        for sub in &self.substructures {
+            let m = sub.state_count();
+            let z = sub.impedance_realization();
+            a.view_mut((first, first), (m, m)).copy_from(&z.a);
+            b.view_mut((first, 0), (m, n)).copy_from(&z.b);
+            c.view_mut((0, first), (n, m)).copy_from(&(-&z.c));
+            d -= &z.d;
+            energy_weight
+                .view_mut((first, first), (m, m))
+                .fill_with_identity();
+            branch_directions
+                .view_mut((input, 0), (n, n))
+                .fill_with_identity();
+            b_branch.view_mut((first, input), (m, n)).copy_from(&z.b);
+            c_branch
+                .view_mut((input, first), (n, m))
+                .copy_from(&(-&z.c));
+            branch_states.push((first..first + m).collect());
+            branch_inputs.push(input..input + n);
+            substructures.push((first, sub.clone()));
+            first += m;
+            input += n;
+        }
+        let d = (&d + d.transpose()) * 0.5;
         Ok(StateSpace {
             a,
             b,
@@ -280,6 +351,8 @@ impl Network {
             b_branch,
             c_branch,
             branch_states,
+            branch_inputs,
+            substructures,
         })
     }
 }
@@ -347,7 +420,7 @@ mod tests {
     #[test]
     fn augmented_matrices_match_eq19_and_are_psd() {
         let net = seed_network();
-        let aug = net.augmented_matrices();
+        let aug = net.augmented_matrices().unwrap();
         let (k1, k2, c1, c2) = (0.2339, 0.5522, 0.9962, 0.2453);
         let k = DMatrix::from_row_slice(3, 3, &[k1, -k1, 0.0, -k1, k1 + k2, -k2, 0.0, -k2, k2]);
         let c = DMatrix::from_row_slice(3, 3, &[c1, -c1, 0.0, -c1, c1 + c2, -c2, 0.0, -c2, c2]);
@@ -357,7 +430,7 @@ mod tests {
             aug.mass,
             DMatrix::from_diagonal(&DVector::from_vec(vec![0.1153, 0.5434, 0.1877]))
         );
-        let aug = coupled_network().augmented_matrices();
+        let aug = coupled_network().augmented_matrices().unwrap();
         for m in [&aug.mass, &aug.damping, &aug.stiffness] {
             assert!((m - m.transpose()).amax() < 1e-15);
             assert!(m.clone().symmetric_eigenvalues().min() > -1e-12);
@@ -377,7 +450,7 @@ mod tests {
     fn seed_impulse_response_reaches_common_velocity() {
         // Seed eq. 19 with body mass m = 1 and a unit impulse on the body.
         let net = seed_network();
-        let aug = net.augmented_matrices();
+        let aug = net.augmented_matrices().unwrap();
         let mut mass = aug.mass.clone();
         mass[(0, 0)] += 1.0;
         let inv_m = mass.clone().try_inverse().unwrap();

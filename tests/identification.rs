@@ -327,6 +327,55 @@ fn assert_passive_block_fit(
     assert!(fit.state_count() <= states, "{}", fit.state_count());
     let report = fit.passivity(1e-9);
     assert!(report.passive, "{report:?}");
+    assert_realized_as_network(&fit, band, tolerance);
+}
+
+/// The passive fit realized as a network ([`hydrofmu::identify::synthesis`]): the same states,
+/// no correction beyond rounding (structure, PSD projection), the network's own error
+/// against the data within `tolerance`, and the exact passivity check on its state space.
+fn assert_realized_as_network(
+    fit: &hydrofmu::identify::vector_fitting::RationalFit,
+    band: (f64, f64),
+    tolerance: f64,
+) {
+    let (sub, report) = hydrofmu::identify::synthesis::synthesize(fit).unwrap();
+    eprintln!("{report:?}, relaxation {:e}", sub.spring_relaxation.norm());
+    assert_eq!(report.springs + report.masses, fit.state_count());
+    assert!(report.structure_residual < 1e-8, "{report:?}");
+    // The storage function comes from a matrix sign iteration that stops at its rounding
+    // level (relative 1e-8 .. 1e-6 here): the PSD projection moves that much, no more.
+    assert!(report.projection < 1e-6, "{report:?}");
+    let data = semicircle();
+    let net = hydrofmu::network::Network {
+        dof_names: data.dof_names.clone(),
+        added_mass_inf: data.added_mass_inf.clone(),
+        branches: Vec::new(),
+        substructures: vec![sub],
+        rho: data.rho,
+        g: data.g,
+        form: NetworkForm::Coupled,
+    };
+    let scales = &fit.dof_scales;
+    let mut worst: f64 = 0.0;
+    for (omega, target) in data.omega.iter().zip(&data.added_mass) {
+        if *omega < band.0 || *omega > band.1 {
+            continue;
+        }
+        let got = net.added_mass_tf(*omega);
+        for i in 0..scales.len() {
+            for j in 0..scales.len() {
+                let e = (got[(i, j)] - target[(i, j)]).norm() / (scales[i] * scales[j]).sqrt();
+                worst = worst.max(e);
+            }
+        }
+    }
+    eprintln!("network error {worst:e}, fit {:e}", fit.max_error);
+    assert!(
+        worst < tolerance && (worst - fit.max_error).abs() < 1e-5,
+        "{worst:e}"
+    );
+    let check = hydrofmu::passivity::check(&net.state_space().unwrap(), 1e-9);
+    assert!(check.passive && check.stable, "{check:?}");
 }
 
 /// The full 9 x 9: passive vector fitting per invariant block (the semicircle's symmetric and

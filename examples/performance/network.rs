@@ -106,7 +106,7 @@ impl SwayScene {
     /// Monolithic seed eq. 19: body + network augmented M, C, K, plus the spring, released
     /// from the offset with every network spring unstretched. Exact at the sample times.
     fn monolithic(&self, network: &Network, h: f64, steps: usize) -> Vec<f64> {
-        let aug = network.augmented_matrices();
+        let aug = network.augmented_matrices().expect("branches only");
         let size = aug.mass.nrows();
         let mut mass = aug.mass.clone();
         let mut stiffness = aug.stiffness.clone();

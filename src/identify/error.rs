@@ -12,6 +12,8 @@ pub enum IdentifyError {
     InvalidBand(String),
     /// A fit parameter is out of range.
     InvalidParams(String),
+    /// A rational fit could not be realized as a passive network.
+    Synthesis(String),
 }
 
 impl fmt::Display for IdentifyError {
@@ -20,6 +22,7 @@ impl fmt::Display for IdentifyError {
             IdentifyError::InvalidData(m) => write!(f, "invalid frequency response: {m}"),
             IdentifyError::InvalidBand(m) => write!(f, "invalid fit band: {m}"),
             IdentifyError::InvalidParams(m) => write!(f, "invalid fit parameters: {m}"),
+            IdentifyError::Synthesis(m) => write!(f, "no passive network realizes the fit: {m}"),
         }
     }
 }

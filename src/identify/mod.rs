@@ -136,6 +136,7 @@ mod params;
 mod problem;
 mod response;
 mod single_dof;
+pub mod synthesis;
 #[cfg(test)]
 mod tests;
 pub mod vector_fitting;

@@ -93,6 +93,7 @@ impl Problem {
             })
             .collect();
         Network {
+            substructures: Vec::new(),
             dof_names: self.dof_names.clone(),
             added_mass_inf: self.added_mass_inf.clone(),
             branches,

@@ -39,6 +39,7 @@ pub(super) fn stage(m: f64, w: f64, zeta: f64) -> Stage {
 
 fn one_dof(added_mass_inf: f64, branches: Vec<Vec<Stage>>, form: NetworkForm) -> Network {
     Network {
+        substructures: Vec::new(),
         dof_names: vec!["sway".into()],
         added_mass_inf: DMatrix::from_element(1, 1, added_mass_inf),
         branches: branches
@@ -148,6 +149,7 @@ pub(super) fn coupled_truth() -> Network {
         ],
     );
     Network {
+        substructures: Vec::new(),
         dof_names: vec!["sway".into(), "roll".into(), "heave".into(), "cb2".into()],
         added_mass_inf: a * unit_mass(),
         branches,

@@ -23,6 +23,9 @@
 //! * `added_mass_inf`: n `row` elements of n whitespace-separated numbers (symmetric PSD).
 //! * `branch`: one `direction` (n numbers), then one or more `stage` elements with attributes
 //!   `mass`, `stiffness`, `damping` (all finite and > 0), listed from the hull outwards.
+//! * `substructure springs="Ns" masses="Nm"` (after the branches; [`Substructure`]):
+//!   `spring_incidence` (Ns rows of Nm + n numbers), `spring_relaxation` (Ns rows of Ns) and
+//!   `damping` (Nm + n rows of Nm + n), each as `row` elements.
 //!
 //! Units: SI per unit hull length; a DOF's generalized units carry into the matrices. Comments
 //! are allowed anywhere; anything else unknown (elements, attributes, text) is an error that
@@ -32,7 +35,9 @@ use std::path::Path;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{Branch, Network, NetworkError, NetworkForm, Stage, NETWORK_FORMAT_VERSION};
+use super::{
+    Branch, Network, NetworkError, NetworkForm, Stage, Substructure, NETWORK_FORMAT_VERSION,
+};
 use crate::xml::{self, escape, Element, Notation, XmlError};
 
 impl Network {
@@ -76,6 +81,26 @@ impl Network {
                 ));
             }
             out.push_str("  </branch>\n");
+        }
+        for sub in &self.substructures {
+            out.push_str(&format!(
+                "  <substructure springs=\"{}\" masses=\"{}\">\n",
+                sub.spring_count(),
+                sub.masses
+            ));
+            for (name, m) in [
+                ("spring_incidence", &sub.spring_incidence),
+                ("spring_relaxation", &sub.spring_relaxation),
+                ("damping", &sub.damping),
+            ] {
+                out.push_str(&format!("    <{name}>\n"));
+                for i in 0..m.nrows() {
+                    let row: Vec<String> = m.row(i).iter().map(|&x| num(x)).collect();
+                    out.push_str(&format!("      <row>{}</row>\n", row.join(" ")));
+                }
+                out.push_str(&format!("    </{name}>\n"));
+            }
+            out.push_str("  </substructure>\n");
         }
         out.push_str("</network>\n");
         out
@@ -137,6 +162,95 @@ fn numbers(element: &Element, expected: usize) -> Result<Vec<f64>, XmlError> {
     Ok(values)
 }
 
+/// Most states one substructure may have (springs + masses): a step costs the square of the
+/// states, a new step size their cube; 4096 is far beyond any fit (tens of states).
+pub const MAX_SUBSTRUCTURE_STATES: usize = 4096;
+
+/// A matrix element of `rows` `<row>` children with `cols` numbers each.
+fn matrix(element: &Element, rows: usize, cols: usize) -> Result<DMatrix<f64>, XmlError> {
+    element.only_attributes(&[])?;
+    element.no_text()?;
+    if element.children.len() != rows {
+        return Err(element.error(format!(
+            "<{}> has {} rows, expected {rows}",
+            element.name,
+            element.children.len()
+        )));
+    }
+    let mut m = DMatrix::zeros(rows, cols);
+    for (i, row) in element.children.iter().enumerate() {
+        if row.name != "row" {
+            return Err(row.error(format!(
+                "unexpected element <{}> in <{}>",
+                row.name, element.name
+            )));
+        }
+        row.no_children()?;
+        row.only_attributes(&[])?;
+        let values = row.text_numbers()?;
+        if values.len() != cols {
+            return Err(row.error(format!(
+                "a <row> of <{}> has {} numbers, expected {cols}",
+                element.name,
+                values.len()
+            )));
+        }
+        for (j, v) in values.into_iter().enumerate() {
+            m[(i, j)] = v;
+        }
+    }
+    Ok(m)
+}
+
+/// A `<substructure>` on `n` DOFs.
+fn substructure(element: &Element, n: usize) -> Result<Substructure, XmlError> {
+    element.only_attributes(&["springs", "masses"])?;
+    element.no_text()?;
+    let count = |name: &str| -> Result<usize, XmlError> {
+        let text = element.required(name)?;
+        match text.trim().parse::<usize>() {
+            Ok(k) if k <= MAX_SUBSTRUCTURE_STATES => Ok(k),
+            _ => Err(element.error(format!(
+                "{name}={text:?} in <substructure> is not a count from 0 to {MAX_SUBSTRUCTURE_STATES}"
+            ))),
+        }
+    };
+    let (ns, nm) = (count("springs")?, count("masses")?);
+    if ns + nm > MAX_SUBSTRUCTURE_STATES {
+        return Err(element.error(format!(
+            "<substructure> has {} states (springs + masses), at most {MAX_SUBSTRUCTURE_STATES} are accepted",
+            ns + nm
+        )));
+    }
+    let names = ["spring_incidence", "spring_relaxation", "damping"];
+    let shapes = [(ns, nm + n), (ns, ns), (nm + n, nm + n)];
+    if element.children.len() != 3
+        || element
+            .children
+            .iter()
+            .zip(names)
+            .any(|(c, name)| c.name != name)
+    {
+        return Err(element.error(
+            "<substructure> holds <spring_incidence>, <spring_relaxation> and <damping>, in this order",
+        ));
+    }
+    let mut parts = element
+        .children
+        .iter()
+        .zip(shapes)
+        .map(|(c, (rows, cols))| matrix(c, rows, cols));
+    let spring_incidence = parts.next().expect("three parts")?;
+    let spring_relaxation = parts.next().expect("three parts")?;
+    let damping = parts.next().expect("three parts")?;
+    Ok(Substructure {
+        masses: nm,
+        spring_incidence,
+        spring_relaxation,
+        damping,
+    })
+}
+
 /// An element holding nothing but attributes.
 fn leaf(element: &Element) -> Result<(), XmlError> {
     element.no_children()?;
@@ -170,7 +284,8 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
     let mut dof_names = Vec::new();
     let mut added_mass_inf: Option<DMatrix<f64>> = None;
     let mut branches = Vec::new();
-    // Order: dof*, added_mass_inf, branch*.
+    let mut substructures = Vec::new();
+    // Order: dof*, added_mass_inf, branch*, substructure*.
     let mut phase = 0;
     for child in &root.children {
         match child.name.as_str() {
@@ -218,9 +333,19 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                 }
                 added_mass_inf = Some(matrix);
             }
+            "substructure" => {
+                if phase == 0 {
+                    return Err(child.error("<substructure> before <added_mass_inf>"));
+                }
+                phase = 2;
+                substructures.push(substructure(child, dof_names.len())?);
+            }
             "branch" => {
                 if phase == 0 {
                     return Err(child.error("<branch> before <added_mass_inf>"));
+                }
+                if phase == 2 {
+                    return Err(child.error("<branch> after a <substructure>"));
                 }
                 child.only_attributes(&[])?;
                 child.no_text()?;
@@ -269,6 +394,7 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
         dof_names,
         added_mass_inf,
         branches,
+        substructures,
         rho,
         g,
         form,

@@ -47,6 +47,9 @@
 //! ([`Network::scaled`]).
 
 mod file;
+mod substructure;
+
+pub use substructure::{ImpedanceRealization, Substructure};
 
 use std::fmt;
 
@@ -182,6 +185,8 @@ pub struct Network {
     pub added_mass_inf: DMatrix<f64>,
     /// The branches.
     pub branches: Vec<Branch>,
+    /// The substructures (form `coupled` only; see [`Substructure`]).
+    pub substructures: Vec<Substructure>,
     /// Water density the values were made for.
     pub rho: f64,
     /// Gravity the values were made for.
@@ -198,7 +203,19 @@ impl Network {
 
     /// Number of auxiliary masses (each adds one spring).
     pub fn aux_dof_count(&self) -> usize {
-        self.branches.iter().map(|b| b.stages.len()).sum()
+        self.branches.iter().map(|b| b.stages.len()).sum::<usize>()
+            + self.substructures.iter().map(|s| s.masses).sum::<usize>()
+    }
+
+    /// Number of states of the realized network: two per stage (elongation and velocity),
+    /// and each substructure's springs and masses.
+    pub fn state_count(&self) -> usize {
+        2 * self.branches.iter().map(|b| b.stages.len()).sum::<usize>()
+            + self
+                .substructures
+                .iter()
+                .map(Substructure::state_count)
+                .sum::<usize>()
     }
 
     /// Checks every rule of the network; the error says which value breaks which rule.
@@ -240,27 +257,8 @@ impl Network {
                 k / n + 1
             ));
         }
-        let scale = a.amax();
-        for i in 0..n {
-            for j in 0..i {
-                if (a[(i, j)] - a[(j, i)]).abs() > MATRIX_TOLERANCE * scale {
-                    return bad(format!(
-                        "added_mass_inf is not symmetric: [{},{}] = {} but [{},{}] = {}",
-                        i + 1,
-                        j + 1,
-                        a[(i, j)],
-                        j + 1,
-                        i + 1,
-                        a[(j, i)]
-                    ));
-                }
-            }
-        }
-        let min_eigen = a.clone().symmetric_eigenvalues().min();
-        if min_eigen < -MATRIX_TOLERANCE * scale {
-            return bad(format!(
-                "added_mass_inf is not positive semi-definite (smallest eigenvalue {min_eigen:e})"
-            ));
+        if let Err(message) = check_symmetric_psd("added_mass_inf", a, MATRIX_TOLERANCE) {
+            return bad(message);
         }
         match self.form {
             NetworkForm::SeriesChain | NetworkForm::ParallelBank if n != 1 => {
@@ -312,6 +310,17 @@ impl Network {
                 }
             }
         }
+        if !self.substructures.is_empty() && self.form != NetworkForm::Coupled {
+            return bad(format!(
+                "form {} cannot hold substructures (form coupled can)",
+                self.form
+            ));
+        }
+        for (k, sub) in self.substructures.iter().enumerate() {
+            if let Err(message) = sub.validate(n, MATRIX_TOLERANCE) {
+                return bad(format!("substructure {}: {message}", k + 1));
+            }
+        }
         Ok(())
     }
 
@@ -340,6 +349,11 @@ impl Network {
             dof_names: self.dof_names.clone(),
             added_mass_inf: &self.added_mass_inf * mass_factor,
             branches,
+            substructures: self
+                .substructures
+                .iter()
+                .map(|sub| sub.scaled(mass_factor, g / self.g))
+                .collect(),
             rho,
             g,
             form: self.form,
@@ -361,6 +375,11 @@ impl Network {
                 }
             }
         }
+        for sub in &self.substructures {
+            if sub.dof_count() == n {
+                h += sub.dynamic_mass(s);
+            }
+        }
         h
     }
 
@@ -373,6 +392,35 @@ impl Network {
     pub fn added_mass_zero(&self) -> DMatrix<f64> {
         self.added_mass_at(Complex64::new(0.0, 0.0)).map(|x| x.re)
     }
+}
+
+/// `m` (finite) must be symmetric and positive semi-definite, both to `tolerance` relative to
+/// its largest entry; the error names it.
+fn check_symmetric_psd(name: &str, m: &DMatrix<f64>, tolerance: f64) -> Result<(), String> {
+    let n = m.nrows();
+    let scale = m.amax();
+    for i in 0..n {
+        for j in 0..i {
+            if (m[(i, j)] - m[(j, i)]).abs() > tolerance * scale {
+                return Err(format!(
+                    "{name} is not symmetric: [{},{}] = {} but [{},{}] = {}",
+                    i + 1,
+                    j + 1,
+                    m[(i, j)],
+                    j + 1,
+                    i + 1,
+                    m[(j, i)]
+                ));
+            }
+        }
+    }
+    let min_eigen = m.clone().symmetric_eigenvalues().min();
+    if n > 0 && min_eigen < -tolerance * scale {
+        return Err(format!(
+            "{name} is not positive semi-definite (smallest eigenvalue {min_eigen:e})"
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

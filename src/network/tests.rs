@@ -6,6 +6,7 @@ use std::path::Path;
 /// The seed's 2-DOF chain (after eq. 19), nondimensional.
 pub(crate) fn seed_network() -> Network {
     Network {
+        substructures: Vec::new(),
         dof_names: vec!["sway".into()],
         added_mass_inf: DMatrix::from_element(1, 1, 0.1153),
         branches: vec![Branch {
@@ -38,6 +39,7 @@ pub(crate) fn coupled_network() -> Network {
         damping: c,
     };
     Network {
+        substructures: Vec::new(),
         dof_names: vec!["sway".into(), "heave".into(), "roll".into()],
         added_mass_inf: a_inf,
         branches: vec![

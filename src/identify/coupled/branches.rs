@@ -56,6 +56,7 @@ impl Problem {
             }
         }
         Network {
+            substructures: Vec::new(),
             dof_names: self.dof_names.clone(),
             added_mass_inf: self.added_mass_inf.clone(),
             branches,
@@ -68,6 +69,7 @@ impl Problem {
     /// A coupled network without branches (`A_inf` only).
     pub(super) fn coupled_network_empty(&self) -> Network {
         Network {
+            substructures: Vec::new(),
             dof_names: self.dof_names.clone(),
             added_mass_inf: self.added_mass_inf.clone(),
             branches: Vec::new(),

@@ -77,6 +77,7 @@ fn rotated_block_network(rotation: &DMatrix<f64>) -> Network {
             &[1.2, -0.3, 0.1, -0.3, 0.8, 0.0, 0.1, 0.0, 0.6],
         ));
     Network {
+        substructures: Vec::new(),
         dof_names: (1..=5).map(|i| format!("q{i}")).collect(),
         added_mass_inf: rotation * a * rotation.transpose() * unit_mass(),
         branches,
@@ -160,6 +161,7 @@ fn mirror_symmetric_network_is_fitted_block_by_block() {
         ],
     );
     let truth = Network {
+        substructures: Vec::new(),
         dof_names: vec!["x1".into(), "x2".into(), "y1".into(), "y2".into()],
         added_mass_inf: a * unit_mass(),
         branches,
