@@ -28,6 +28,8 @@
 //! blocks, each driven by one scalar input (a network's branches, driven by their speeds
 //! `d_b . v`): one small exponential per block, and a step costs the blocks' own sizes.
 
+use std::ops::Range;
+
 use nalgebra::DMatrix;
 use std::fmt;
 
@@ -347,14 +349,16 @@ fn recently_used<T>(
     Ok(entries.last().expect("an entry was just found or inserted"))
 }
 
-/// A system of independent blocks, each driven by one scalar input: block j holds the states
-/// `states_j` and obeys `z_j' = A_j z_j + b_j u_j`. A network's branches are such blocks
-/// (input: the branch speed `d_b . v`), so a step costs the blocks' own sizes, `sum m_j^2`,
-/// and a new step size costs one small exponential per block instead of one of all states.
+/// A system of independent blocks, each driven by its own inputs: block j holds the states
+/// `states_j` and obeys `z_j' = A_j z_j + B_j u_(inputs_j)`. A network's branches are such
+/// blocks with one scalar input each (the branch speed `d_b . v`), a substructure one with the
+/// hull velocities; a step costs the blocks' own sizes, `sum m_j (m_j + k_j)`, and a new step
+/// size one small exponential per block instead of one of all states.
 #[derive(Clone, Debug)]
 pub struct BlockDiscretizationCache {
     state_count: usize,
-    blocks: Vec<(Vec<usize>, DMatrix<f64>, DMatrix<f64>)>,
+    input_count: usize,
+    blocks: Vec<(Vec<usize>, Range<usize>, DMatrix<f64>, DMatrix<f64>)>,
     capacity: usize,
     entries: Vec<BlockDiscretization>,
 }
@@ -364,10 +368,14 @@ pub struct BlockDiscretizationCache {
 pub struct BlockDiscretization {
     /// Step size h.
     pub step: f64,
-    /// Start of each block in `states`, `gamma0`, `gamma1` (one past the end last).
+    /// Start of each block in `states` (one past the end last).
     starts: Vec<usize>,
     /// Start of each block's `Phi` (row-major m x m) in `phi`.
     phi_starts: Vec<usize>,
+    /// Start of each block's `Gamma0`, `Gamma1` (row-major m x k) in `gamma0`, `gamma1`.
+    gamma_starts: Vec<usize>,
+    /// Each block's inputs.
+    inputs: Vec<Range<usize>>,
     states: Vec<usize>,
     phi: Vec<f64>,
     gamma0: Vec<f64>,
@@ -379,22 +387,28 @@ impl BlockDiscretization {
     /// alias `z`.
     pub fn apply(&self, z: &[f64], input: &[f64], input_rate: &[f64], next: &mut [f64]) {
         let blocks = self.starts.len() - 1;
-        assert!(input.len() == blocks && input_rate.len() == blocks && z.len() == next.len());
+        assert!(input.len() == input_rate.len() && z.len() == next.len());
         for j in 0..blocks {
             let (start, end) = (self.starts[j], self.starts[j + 1]);
+            let inputs = self.inputs[j].clone();
             let block = Block {
                 states: &self.states[start..end],
                 phi: &self.phi[self.phi_starts[j]..self.phi_starts[j + 1]],
-                gamma0: &self.gamma0[start..end],
-                gamma1: &self.gamma1[start..end],
+                gamma0: &self.gamma0[self.gamma_starts[j]..self.gamma_starts[j + 1]],
+                gamma1: &self.gamma1[self.gamma_starts[j]..self.gamma_starts[j + 1]],
             };
+            if inputs.len() != 1 {
+                block.apply_inputs(z, &input[inputs.clone()], &input_rate[inputs], next);
+                continue;
+            }
+            let (u, du) = (input[inputs.start], input_rate[inputs.start]);
             // Fixed sizes (chains of 1 to 4 masses) unroll; others take the general loop.
             match end - start {
-                2 => block.apply_fixed::<2>(z, input[j], input_rate[j], next),
-                4 => block.apply_fixed::<4>(z, input[j], input_rate[j], next),
-                6 => block.apply_fixed::<6>(z, input[j], input_rate[j], next),
-                8 => block.apply_fixed::<8>(z, input[j], input_rate[j], next),
-                _ => block.apply(z, input[j], input_rate[j], next),
+                2 => block.apply_fixed::<2>(z, u, du, next),
+                4 => block.apply_fixed::<4>(z, u, du, next),
+                6 => block.apply_fixed::<6>(z, u, du, next),
+                8 => block.apply_fixed::<8>(z, u, du, next),
+                _ => block.apply(z, u, du, next),
             }
         }
     }
@@ -438,28 +452,64 @@ impl Block<'_> {
             next[i] = sum + self.gamma0[row] * u + self.gamma1[row] * du;
         }
     }
+
+    /// A block with several inputs (a substructure: the hull velocities).
+    fn apply_inputs(&self, z: &[f64], u: &[f64], du: &[f64], next: &mut [f64]) {
+        let (m, k) = (self.states.len(), u.len());
+        for (row, &i) in self.states.iter().enumerate() {
+            let phi_row = &self.phi[row * m..(row + 1) * m];
+            let mut sum: f64 = phi_row
+                .iter()
+                .zip(self.states)
+                .map(|(p, &s)| p * z[s])
+                .sum();
+            let g0 = &self.gamma0[row * k..(row + 1) * k];
+            let g1 = &self.gamma1[row * k..(row + 1) * k];
+            for c in 0..k {
+                sum += g0[c] * u[c] + g1[c] * du[c];
+            }
+            next[i] = sum;
+        }
+    }
 }
 
 impl BlockDiscretizationCache {
     /// Number of step sizes kept (masters usually use one or two).
     pub const DEFAULT_CAPACITY: usize = 4;
 
-    /// The blocks of `z' = A z + B u` (B: one column per block). Refused unless the blocks
-    /// partition the states, `A` couples no two blocks and column j of `B` is zero outside
-    /// block j.
+    /// The blocks of `z' = A z + B u`, block j with the states `blocks[j]` and the inputs
+    /// (columns of `B`) `inputs[j]`. Refused unless the blocks partition the states and the
+    /// inputs, `A` couples no two blocks and every column of `B` is zero outside its block.
     pub fn new(
         a: &DMatrix<f64>,
         b: &DMatrix<f64>,
         blocks: &[Vec<usize>],
+        inputs: &[Range<usize>],
     ) -> Result<Self, DiscretizeError> {
         check_system(a, b)?;
         let ns = a.nrows();
-        if b.ncols() != blocks.len() {
+        if inputs.len() != blocks.len() {
             return Err(DiscretizeError::Dimensions(format!(
-                "B has {} columns for {} blocks",
-                b.ncols(),
+                "{} input ranges for {} blocks",
+                inputs.len(),
                 blocks.len()
             )));
+        }
+        let mut input_owner = vec![usize::MAX; b.ncols()];
+        for (j, range) in inputs.iter().enumerate() {
+            for c in range.clone() {
+                if c >= b.ncols() || input_owner[c] != usize::MAX {
+                    return Err(DiscretizeError::Dimensions(format!(
+                        "block {j}: input {c} is out of range or in two blocks"
+                    )));
+                }
+                input_owner[c] = j;
+            }
+        }
+        if input_owner.contains(&usize::MAX) {
+            return Err(DiscretizeError::Dimensions(
+                "the blocks do not cover every input".into(),
+            ));
         }
         let mut owner = vec![usize::MAX; ns];
         for (j, states) in blocks.iter().enumerate() {
@@ -479,7 +529,7 @@ impl BlockDiscretizationCache {
         }
         for i in 0..ns {
             let coupled = (0..ns).any(|k| owner[k] != owner[i] && a[(i, k)] != 0.0);
-            let driven = (0..blocks.len()).any(|j| owner[i] != j && b[(i, j)] != 0.0);
+            let driven = (0..b.ncols()).any(|c| owner[i] != input_owner[c] && b[(i, c)] != 0.0);
             if coupled || driven {
                 return Err(DiscretizeError::Dimensions(format!(
                     "state {i} is coupled to another block"
@@ -488,16 +538,17 @@ impl BlockDiscretizationCache {
         }
         let blocks = blocks
             .iter()
-            .enumerate()
-            .map(|(j, states)| {
+            .zip(inputs)
+            .map(|(states, range)| {
                 let m = states.len();
                 let a_j = DMatrix::from_fn(m, m, |r, c| a[(states[r], states[c])]);
-                let b_j = DMatrix::from_fn(m, 1, |r, _| b[(states[r], j)]);
-                (states.clone(), a_j, b_j)
+                let b_j = DMatrix::from_fn(m, range.len(), |r, c| b[(states[r], range.start + c)]);
+                (states.clone(), range.clone(), a_j, b_j)
             })
             .collect();
         Ok(BlockDiscretizationCache {
             state_count: ns,
+            input_count: b.ncols(),
             blocks,
             capacity: Self::DEFAULT_CAPACITY,
             entries: Vec::with_capacity(Self::DEFAULT_CAPACITY),
@@ -509,9 +560,14 @@ impl BlockDiscretizationCache {
         self.state_count
     }
 
-    /// Number of blocks (inputs).
+    /// Number of blocks.
     pub fn block_count(&self) -> usize {
         self.blocks.len()
+    }
+
+    /// Number of inputs.
+    pub fn input_count(&self) -> usize {
+        self.input_count
     }
 
     /// The discretization for step h, computed once per step size while it stays among the
@@ -529,20 +585,29 @@ impl BlockDiscretizationCache {
                     step,
                     starts: vec![0],
                     phi_starts: vec![0],
+                    gamma_starts: vec![0],
+                    inputs: Vec::with_capacity(blocks.len()),
                     states: Vec::new(),
                     phi: Vec::new(),
                     gamma0: Vec::new(),
                     gamma1: Vec::new(),
                 };
-                for (states, a, b) in blocks {
+                for (states, inputs, a, b) in blocks {
                     let one = discretize(a, b, step, true)?;
                     d.states.extend_from_slice(states);
                     d.phi.extend(one.phi.transpose().iter());
-                    d.gamma0.extend(one.gamma0.iter());
-                    d.gamma1
-                        .extend(one.gamma1.as_ref().expect("first-order hold").iter());
+                    d.gamma0.extend(one.gamma0.transpose().iter());
+                    d.gamma1.extend(
+                        one.gamma1
+                            .as_ref()
+                            .expect("first-order hold")
+                            .transpose()
+                            .iter(),
+                    );
+                    d.inputs.push(inputs.clone());
                     d.starts.push(d.states.len());
                     d.phi_starts.push(d.phi.len());
+                    d.gamma_starts.push(d.gamma0.len());
                 }
                 Ok(d)
             },
@@ -745,7 +810,8 @@ mod tests {
     #[test]
     fn cache_keeps_recent_steps() {
         let (a, b) = seed_system();
-        let mut cache = BlockDiscretizationCache::new(&a, &b, &[vec![0, 1, 2, 3]]).unwrap();
+        let mut cache =
+            BlockDiscretizationCache::new(&a, &b, &[vec![0, 1, 2, 3]], &[0..1]).unwrap();
         let first = cache.get(0.01).unwrap().clone();
         let full = discretize(&a, &b, 0.01, true).unwrap();
         assert_eq!(first.phi, full.phi.transpose().as_slice());
@@ -778,7 +844,8 @@ mod tests {
                 }
             }
         }
-        let mut blocks = BlockDiscretizationCache::new(&a, &b, &[block0, block1]).unwrap();
+        let mut blocks =
+            BlockDiscretizationCache::new(&a, &b, &[block0, block1], &[0..1, 1..2]).unwrap();
         let full = discretize(&a, &b, 0.37, true).unwrap();
         let z = DVector::from_fn(8, |i, _| (i as f64 * 0.7).sin());
         let (u, du) = ([0.3, -1.2], [2.0, 0.5]);
@@ -797,8 +864,57 @@ mod tests {
         let mut coupled = a.clone();
         coupled[(0, 1)] = 1e-3;
         let halves = [vec![0, 5, 2, 7], vec![1, 3, 6, 4]];
-        assert!(BlockDiscretizationCache::new(&coupled, &b, &halves).is_err());
-        assert!(BlockDiscretizationCache::new(&a, &b, &[vec![0, 5, 2, 7], vec![1, 3, 6]]).is_err());
+        assert!(BlockDiscretizationCache::new(&coupled, &b, &halves, &[0..1, 1..2]).is_err());
+        assert!(BlockDiscretizationCache::new(
+            &a,
+            &b,
+            &[vec![0, 5, 2, 7], vec![1, 3, 6]],
+            &[0..1, 1..2]
+        )
+        .is_err());
+        // An input in two blocks, or one driving the other block's states, is refused.
+        assert!(BlockDiscretizationCache::new(&a, &b, &halves, &[0..2, 1..2]).is_err());
+        assert!(BlockDiscretizationCache::new(&a, &b, &halves, &[1..2, 0..1]).is_err());
         assert!(blocks.get(0.0).is_err());
+    }
+
+    #[test]
+    fn a_block_with_several_inputs_steps_like_the_whole_system() {
+        // Block 0: the seed chain driven by two inputs (columns 0 and 1), block 1: the same
+        // chain scaled, driven by input 2.
+        let (a1, b1) = seed_system();
+        let mut a = DMatrix::zeros(8, 8);
+        let mut b = DMatrix::zeros(8, 3);
+        for r in 0..4 {
+            b[(r, 0)] = b1[(r, 0)];
+            b[(r, 1)] = (r as f64 + 1.0) * 0.3;
+            b[(4 + r, 2)] = 2.0 * b1[(r, 0)];
+            for c in 0..4 {
+                a[(r, c)] = a1[(r, c)];
+                a[(4 + r, 4 + c)] = 2.0 * a1[(r, c)];
+            }
+        }
+        let mut blocks = BlockDiscretizationCache::new(
+            &a,
+            &b,
+            &[vec![0, 1, 2, 3], vec![4, 5, 6, 7]],
+            &[0..2, 2..3],
+        )
+        .unwrap();
+        assert_eq!(blocks.input_count(), 3);
+        let full = discretize(&a, &b, 0.21, true).unwrap();
+        let z = DVector::from_fn(8, |i, _| (i as f64 * 1.3).cos());
+        let (u, du) = ([0.3, -1.2, 0.8], [2.0, 0.5, -0.4]);
+        let mut next = vec![0.0; 8];
+        blocks
+            .get(0.21)
+            .unwrap()
+            .apply(z.as_slice(), &u, &du, &mut next);
+        let expected = &full.phi * &z
+            + &full.gamma0 * DVector::from_row_slice(&u)
+            + full.gamma1.as_ref().unwrap() * DVector::from_row_slice(&du);
+        for i in 0..8 {
+            assert!((next[i] - expected[i]).abs() < 1e-14, "{i}");
+        }
     }
 }

@@ -35,6 +35,11 @@
 //! `F(s) / v(s) = C (sI - A)^-1 B + D = -s (H(s) - A_inf)`. Stored energy `E = 1/2 z^T P z`,
 //! `P = diag(K_s, M_a)`; `dE/dt = -F . v - e'^T C_s e'`. `damping_direct = -D` (symmetric PSD).
 //! `A` is Hurwitz (every mode of the network clamped at the hull is damped).
+//!
+//! Substructures ([`crate::network::Substructure`]) follow the branches: their states are their
+//! energy coordinates divided by `sqrt(rho)` (so that, as for the branches, `P` and, at a fixed
+//! state, `C` and `D` are proportional to rho), `P = rho I` on them, and their inputs are the
+//! n hull velocities (n rows of the identity in `branch_directions`).
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -82,8 +87,9 @@ pub struct StateSpace {
     /// The inputs (rows of `branch_directions`) of each group: one per branch, the n hull
     /// velocities for a substructure.
     pub branch_inputs: Vec<std::ops::Range<usize>>,
-    /// The substructures, each with its first state.
-    pub substructures: Vec<(usize, crate::network::Substructure)>,
+    /// The substructures, each with its first state and the factor from the state to its
+    /// energy coordinates (`sqrt(rho)`).
+    pub substructures: Vec<(usize, crate::network::Substructure, f64)>,
 }
 
 /// `C (sI - A)^-1 B + D` of any real state-space model (NaN entries when `sI - A` is
@@ -161,14 +167,14 @@ impl StateSpace {
         let substructures: f64 = self
             .substructures
             .iter()
-            .map(|(first, sub)| {
+            .map(|(first, sub, factor)| {
                 let ns = sub.spring_count();
-                let e = z.rows(*first, ns);
+                let e = z.rows(*first, ns) * *factor;
                 let mut uv = DVector::zeros(sub.damping.nrows());
                 uv.rows_mut(0, sub.masses)
-                    .copy_from(&z.rows(first + ns, sub.masses));
+                    .copy_from(&(z.rows(first + ns, sub.masses) * *factor));
                 uv.rows_mut(sub.masses, v.len()).copy_from(v);
-                e.dot(&(&sub.spring_relaxation * e)) + uv.dot(&(&sub.damping * &uv))
+                e.dot(&(&sub.spring_relaxation * &e)) + uv.dot(&(&sub.damping * &uv))
             })
             .sum();
         branches + substructures
@@ -316,26 +322,27 @@ impl Network {
         let mut c_branch = grow(&c_branch, inputs, total);
         let mut substructures = Vec::with_capacity(self.substructures.len());
         let (mut first, mut input) = (2 * na, r);
+        // State = energy coordinates / sqrt(rho) (module docs).
+        let root_rho = self.rho.sqrt();
         for sub in &self.substructures {
             let m = sub.state_count();
             let z = sub.impedance_realization();
+            let (b_sub, c_sub) = (&z.b / root_rho, -&z.c * root_rho);
             a.view_mut((first, first), (m, m)).copy_from(&z.a);
-            b.view_mut((first, 0), (m, n)).copy_from(&z.b);
-            c.view_mut((0, first), (n, m)).copy_from(&(-&z.c));
+            b.view_mut((first, 0), (m, n)).copy_from(&b_sub);
+            c.view_mut((0, first), (n, m)).copy_from(&c_sub);
             d -= &z.d;
             energy_weight
                 .view_mut((first, first), (m, m))
-                .fill_with_identity();
+                .copy_from(&DMatrix::from_diagonal_element(m, m, self.rho));
             branch_directions
                 .view_mut((input, 0), (n, n))
                 .fill_with_identity();
-            b_branch.view_mut((first, input), (m, n)).copy_from(&z.b);
-            c_branch
-                .view_mut((input, first), (n, m))
-                .copy_from(&(-&z.c));
+            b_branch.view_mut((first, input), (m, n)).copy_from(&b_sub);
+            c_branch.view_mut((input, first), (n, m)).copy_from(&c_sub);
             branch_states.push((first..first + m).collect());
             branch_inputs.push(input..input + n);
-            substructures.push((first, sub.clone()));
+            substructures.push((first, sub.clone(), root_rho));
             first += m;
             input += n;
         }
@@ -364,9 +371,15 @@ mod tests {
 
     #[test]
     fn state_space_transfer_matches_network() {
-        for net in [seed_network(), coupled_network()] {
+        let with_substructure = Network::from_xml_str(
+            crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK,
+            "substructure.xml",
+        )
+        .unwrap()
+        .scaled(1025.0, 9.81);
+        for net in [seed_network(), coupled_network(), with_substructure] {
             let ss = net.state_space().unwrap();
-            assert_eq!(ss.state_count(), 2 * net.aux_dof_count());
+            assert_eq!(ss.state_count(), net.state_count());
             for &omega in &[0.05, 0.4, 1.0, 2.5, 10.0] {
                 let s = Complex64::new(0.0, omega);
                 let from_ss = ss.transfer(s);
@@ -377,20 +390,28 @@ mod tests {
                 // Two evaluations of one rational function: agree to rounding.
                 assert!(max_abs_diff(&from_ss, &expected) < 1e-11 * scale.max(1.0));
             }
-            // Feedthrough = -(sum of first dampers d d^T), symmetric PSD.
+            // Feedthrough = -(sum of first dampers d d^T and the substructures' C_vv),
+            // symmetric PSD.
             let dd = ss.damping_direct();
-            let mut expected = DMatrix::zeros(net.dof_count(), net.dof_count());
+            let n = net.dof_count();
+            let mut expected = DMatrix::zeros(n, n);
             for b in &net.branches {
                 expected += &b.direction * b.direction.transpose() * b.stages[0].damping;
             }
-            assert!((dd - expected).amax() < 1e-13);
+            for sub in &net.substructures {
+                expected += sub.damping.view((sub.masses, sub.masses), (n, n));
+            }
+            assert!((dd - &expected).amax() < 1e-13 * expected.amax());
             // The branch factorization reconstructs B and C (the stepper relies on it).
             let b = &ss.b_branch * &ss.branch_directions;
             let c = ss.branch_directions.transpose() * &ss.c_branch;
             assert!((b - &ss.b).amax() < 1e-14 * ss.b.amax().max(1.0));
             assert!((c - &ss.c).amax() < 1e-14 * ss.c.amax().max(1.0));
-            assert_eq!(ss.branch_directions.nrows(), net.branches.len());
-            // The branch blocks: A, B_r and C_r have nothing outside them.
+            assert_eq!(
+                ss.branch_directions.nrows(),
+                net.branches.len() + n * net.substructures.len()
+            );
+            // The blocks: A, B_r and C_r have nothing outside them.
             let mut owner = vec![usize::MAX; ss.state_count()];
             for (b, states) in ss.branch_states.iter().enumerate() {
                 for &i in states {
@@ -404,10 +425,12 @@ mod tests {
                         assert_eq!(ss.a[(i, j)], 0.0);
                     }
                 }
-                for b in 0..net.branches.len() {
-                    if owner[i] != b {
-                        assert_eq!(ss.b_branch[(i, b)], 0.0);
-                        assert_eq!(ss.c_branch[(b, i)], 0.0);
+                for (b, inputs) in ss.branch_inputs.iter().enumerate() {
+                    for r in inputs.clone() {
+                        if owner[i] != b {
+                            assert_eq!(ss.b_branch[(i, r)], 0.0);
+                            assert_eq!(ss.c_branch[(r, i)], 0.0);
+                        }
                     }
                 }
             }

@@ -339,7 +339,7 @@ pub fn synthesize(fit: &RationalFit) -> Result<(Substructure, SynthesisReport), 
         ]
         .into_iter()
         .fold(0.0, f64::max);
-        if !(residual < 1e-6) {
+        if residual.is_nan() || residual >= 1e-6 {
             return Err(failure(format!(
                 "the realization is not reciprocal to 1e-6 (residual {residual:e})"
             )));

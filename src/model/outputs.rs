@@ -310,36 +310,43 @@ impl Model {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::tests::{model, seed, SEED_NETWORK, TWO_DOF_NETWORK};
+    use crate::model::tests::{
+        model, seed, SEED_NETWORK, TWO_DOF_NETWORK, TWO_DOF_SUBSTRUCTURE_NETWORK,
+    };
+
+    /// The networks of the output tests: branches only, and branches with a substructure.
+    const NETWORKS: [&str; 2] = [TWO_DOF_NETWORK, TWO_DOF_SUBSTRUCTURE_NETWORK];
 
     #[test]
     fn energy_balance_holds_and_dissipation_is_positive() {
         // Work done on the water (trapezoid of power with a smooth input over small steps)
         // = stored energy + dissipated >= stored energy.
-        let mut model = model(TWO_DOF_NETWORK, false);
-        model.set_parameters(1025.0, 9.81).unwrap();
-        let h = 1e-3;
-        let mut work = 0.0;
-        let mut t = 0.0;
-        let input = |t: f64| [(1.3 * t).sin() * (-0.1 * t).exp(), 0.4 * (2.1 * t).cos()];
-        let mut previous_power = None;
-        for k in 0..20_000 {
-            let u = input(k as f64 * h);
-            model.set_value(Quantity::Velocity(0), u[0]).unwrap();
-            model.set_value(Quantity::Velocity(1), u[1]).unwrap();
-            let p = model.value(Quantity::Power).unwrap();
-            if let Some(p0) = previous_power {
-                work += 0.5 * h * (p0 + p);
+        for network in NETWORKS {
+            let mut model = model(network, false);
+            model.set_parameters(1025.0, 9.81).unwrap();
+            let h = 1e-3;
+            let mut work = 0.0;
+            let mut t = 0.0;
+            let input = |t: f64| [(1.3 * t).sin() * (-0.1 * t).exp(), 0.4 * (2.1 * t).cos()];
+            let mut previous_power = None;
+            for k in 0..20_000 {
+                let u = input(k as f64 * h);
+                model.set_value(Quantity::Velocity(0), u[0]).unwrap();
+                model.set_value(Quantity::Velocity(1), u[1]).unwrap();
+                let p = model.value(Quantity::Power).unwrap();
+                if let Some(p0) = previous_power {
+                    work += 0.5 * h * (p0 + p);
+                }
+                previous_power = Some(p);
+                model.step(t, h).unwrap();
+                t = model.time();
             }
-            previous_power = Some(p);
-            model.step(t, h).unwrap();
-            t = model.time();
+            let energy = model.value(Quantity::Energy).unwrap();
+            assert!(energy > 0.0);
+            let dissipated = work - energy;
+            // Trapezoid error with ZOH inputs is O(h) relative; 1 % margin.
+            assert!(dissipated > 0.01 * work, "work {work}, energy {energy}");
         }
-        let energy = model.value(Quantity::Energy).unwrap();
-        assert!(energy > 0.0);
-        let dissipated = work - energy;
-        // Trapezoid error with ZOH inputs is O(h) relative; 1 % margin.
-        assert!(dissipated > 0.01 * work, "work {work}, energy {energy}");
     }
 
     #[test]
@@ -380,62 +387,68 @@ mod tests {
 
     #[test]
     fn output_derivative_matches_finite_difference() {
-        let mut m = model(TWO_DOF_NETWORK, false);
-        m.set_value(Quantity::Velocity(0), 0.5).unwrap();
-        m.set_value(Quantity::Velocity(1), -0.2).unwrap();
-        m.step(0.0, 0.3).unwrap();
-        m.set_input_derivative(Quantity::Velocity(0), 0.4).unwrap();
-        let q = [Quantity::Force(0), Quantity::Force(1), Quantity::Power];
-        let d: Vec<f64> = q.iter().map(|q| m.output_derivative(*q).unwrap()).collect();
-        let before: Vec<f64> = q.iter().map(|q| m.value(*q).unwrap()).collect();
-        let h = 1e-6;
-        m.step(0.3, h).unwrap();
-        for (k, q) in q.iter().enumerate() {
-            let fd = (m.value(*q).unwrap() - before[k]) / h;
-            // O(h) truncation relative to the derivative scale.
-            assert!(
-                (fd - d[k]).abs() < 1e-3 * (1.0 + d[k].abs()),
-                "{q:?}: {fd} vs {}",
-                d[k]
-            );
+        for network in NETWORKS {
+            let mut m = model(network, false);
+            m.set_value(Quantity::Velocity(0), 0.5).unwrap();
+            m.set_value(Quantity::Velocity(1), -0.2).unwrap();
+            m.step(0.0, 0.3).unwrap();
+            m.set_input_derivative(Quantity::Velocity(0), 0.4).unwrap();
+            let q = [Quantity::Force(0), Quantity::Force(1), Quantity::Power];
+            let d: Vec<f64> = q.iter().map(|q| m.output_derivative(*q).unwrap()).collect();
+            let before: Vec<f64> = q.iter().map(|q| m.value(*q).unwrap()).collect();
+            let h = 1e-6;
+            m.step(0.3, h).unwrap();
+            for (k, q) in q.iter().enumerate() {
+                let fd = (m.value(*q).unwrap() - before[k]) / h;
+                // O(h) truncation relative to the derivative scale.
+                assert!(
+                    (fd - d[k]).abs() < 1e-3 * (1.0 + d[k].abs()),
+                    "{q:?}: {fd} vs {}",
+                    d[k]
+                );
+            }
         }
     }
 
     #[test]
     fn partial_derivatives_match_finite_differences() {
-        let mut m = model(TWO_DOF_NETWORK, true);
-        m.set_value(Quantity::Velocity(0), 0.5).unwrap();
-        m.set_value(Quantity::Velocity(1), -0.2).unwrap();
-        m.set_value(Quantity::Acceleration(1), 0.7).unwrap();
-        m.step(0.0, 0.3).unwrap();
-        let outs = [
-            Quantity::Force(0),
-            Quantity::Force(1),
-            Quantity::Power,
-            Quantity::Energy,
-        ];
-        let ins = [
-            Quantity::Velocity(0),
-            Quantity::Velocity(1),
-            Quantity::Acceleration(0),
-            Quantity::Acceleration(1),
-        ];
-        for inp in ins {
-            let x0 = m.value(inp).unwrap();
-            let eps = 1e-6;
-            m.set_value(inp, x0 + eps).unwrap();
-            let plus: Vec<f64> = outs.iter().map(|o| m.value(*o).unwrap()).collect();
-            m.set_value(inp, x0 - eps).unwrap();
-            let minus: Vec<f64> = outs.iter().map(|o| m.value(*o).unwrap()).collect();
-            m.set_value(inp, x0).unwrap();
-            for (k, o) in outs.iter().enumerate() {
-                let fd = (plus[k] - minus[k]) / (2.0 * eps);
-                let exact = m.partial_derivative(*o, inp).unwrap();
-                // central difference of a quadratic: exact to rounding (~1e-10)
-                assert!(
-                    (fd - exact).abs() < 1e-8 * (1.0 + exact.abs()),
-                    "{o:?}/{inp:?}: {fd} vs {exact}"
-                );
+        for network in NETWORKS {
+            let mut m = model(network, true);
+            m.set_value(Quantity::Velocity(0), 0.5).unwrap();
+            m.set_value(Quantity::Velocity(1), -0.2).unwrap();
+            m.set_value(Quantity::Acceleration(1), 0.7).unwrap();
+            m.step(0.0, 0.3).unwrap();
+            let outs = [
+                Quantity::Force(0),
+                Quantity::Force(1),
+                Quantity::Power,
+                Quantity::Energy,
+            ];
+            let ins = [
+                Quantity::Velocity(0),
+                Quantity::Velocity(1),
+                Quantity::Acceleration(0),
+                Quantity::Acceleration(1),
+            ];
+            for inp in ins {
+                let x0 = m.value(inp).unwrap();
+                let eps = 1e-6;
+                m.set_value(inp, x0 + eps).unwrap();
+                let plus: Vec<f64> = outs.iter().map(|o| m.value(*o).unwrap()).collect();
+                m.set_value(inp, x0 - eps).unwrap();
+                let minus: Vec<f64> = outs.iter().map(|o| m.value(*o).unwrap()).collect();
+                m.set_value(inp, x0).unwrap();
+                for (k, o) in outs.iter().enumerate() {
+                    let fd = (plus[k] - minus[k]) / (2.0 * eps);
+                    let exact = m.partial_derivative(*o, inp).unwrap();
+                    // central difference of a quadratic: exact to rounding, |value| 1e-16 /
+                    // eps = 1e-10 |value|
+                    let rounding = 1e-9 * plus[k].abs().max(minus[k].abs());
+                    assert!(
+                        (fd - exact).abs() < 1e-8 * (1.0 + exact.abs()) + rounding,
+                        "{o:?}/{inp:?}: {fd} vs {exact}"
+                    );
+                }
             }
         }
     }
@@ -446,8 +459,11 @@ mod tests {
         // (rho, g (1 +- 1e-6)) at a fixed non-zero state, SI units. The outputs are linear in
         // rho and smooth in g, so the difference is exact to rounding: |value| / p * 1e-10
         // (p = rho or g). Tolerance 1e-7 (|exact| + |value| / p).
-        for keep in [false, true] {
-            let mut m = model(TWO_DOF_NETWORK, keep);
+        for (keep, network) in [false, true]
+            .into_iter()
+            .flat_map(|k| NETWORKS.map(|n| (k, n)))
+        {
+            let mut m = model(network, keep);
             m.set_parameters(1025.0, 9.81).unwrap();
             m.set_value(Quantity::Velocity(0), 0.5).unwrap();
             m.set_value(Quantity::Velocity(1), -0.2).unwrap();

@@ -45,6 +45,7 @@ impl Stepper {
                 &system.a,
                 &system.b_branch,
                 &system.branch_states,
+                &system.branch_inputs,
             )?,
             projection: system.branch_projection.clone(),
             next: DVector::zeros(system.state_size()),

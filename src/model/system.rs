@@ -33,15 +33,19 @@ pub struct RadiationSystem {
     pub(super) energy_weight: DMatrix<f64>,
     /// Branch input matrix `B_r` (`B = B_r P`), what the stepper discretizes.
     pub(super) b_branch: DMatrix<f64>,
-    /// The states of each branch (independent blocks of `A`).
+    /// The states of each branch and substructure (independent blocks of `A`).
     pub(super) branch_states: Vec<Vec<usize>>,
+    /// The inputs (rows of `branch_projection`) of each block.
+    pub(super) branch_inputs: Vec<std::ops::Range<usize>>,
     /// `P` (branch directions as rows, r x n): branch speeds `s = P v`.
     pub(super) branch_projection: DMatrix<f64>,
     /// `C_r` by non-zeros: force along each branch `f_r = C_r z`, so that
     /// `F = P^T f_r + D v` (without the A_inf term).
     pub(super) branch_force: LinearMap,
-    /// Number of springs: the first `spring_count` states are their elongations, the
-    /// others the aux velocities.
+    /// Number of branch springs: the first `spring_count` states are their elongations
+    /// (force columns proportional to rho g), the next as many the aux velocities, then the
+    /// substructures' energy coordinates (like velocities, force columns proportional to
+    /// rho sqrt(g), see [`crate::network::Substructure`]).
     pub(super) spring_count: usize,
 }
 
@@ -85,6 +89,7 @@ impl RadiationSystem {
             branch_force: LinearMap::new(&ss.c_branch),
             b_branch: ss.b_branch,
             branch_states: ss.branch_states,
+            branch_inputs: ss.branch_inputs,
             dof_names: scaled.dof_names.clone(),
             keep_inf_mass,
             rho,
@@ -120,7 +125,7 @@ impl RadiationSystem {
         if self.branch_projection.ncols() != n
             || self.branch_force.rows() != r
             || self.branch_force.cols() != ns
-            || 2 * self.spring_count != ns
+            || 2 * self.spring_count > ns
         {
             return Err(ModelError::System(format!(
                 "the branch maps do not fit {n} DOFs, {r} branches and {ns} states"

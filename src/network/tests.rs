@@ -174,6 +174,69 @@ fn xml_round_trip_is_exact() {
     odd.branches[0].stages[0].stiffness = 3.3e12;
     let back = Network::from_xml_str(&odd.to_xml_string(), "memory").unwrap();
     assert_eq!(back, odd);
+    let with_substructure =
+        Network::from_xml_str(crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK, "memory")
+            .unwrap()
+            .scaled(1025.0, 9.81);
+    let back = Network::from_xml_str(&with_substructure.to_xml_string(), "memory").unwrap();
+    assert_eq!(back, with_substructure);
+}
+
+#[test]
+fn substructure_errors_name_file_line_and_problem() {
+    let good = crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK;
+    assert!(Network::from_xml_str(good, "net.xml").is_ok());
+    let cases = [
+        (
+            good.replace("springs=\"2\"", "springs=\"1000000000\""),
+            "not a count from 0 to 4096",
+        ),
+        (
+            good.replace(
+                "springs=\"2\" masses=\"1\"",
+                "springs=\"3000\" masses=\"3000\"",
+            ),
+            "6000 states",
+        ),
+        (
+            good.replace(
+                "<row>0.2 0.05</row><row>0.05 0.1</row></spring_relaxation>",
+                "<row>0.2 0.05</row></spring_relaxation>",
+            ),
+            "<spring_relaxation> has 1 rows, expected 2",
+        ),
+        (
+            good.replace("<row>1 -0.7 0.2</row>", "<row>1 -0.7</row>"),
+            "has 2 numbers, expected 3",
+        ),
+        (
+            good.replace("<row>0.5 -0.2 0.1</row>", "<row>-0.5 -0.2 0.1</row>"),
+            "substructure 1: damping is not positive semi-definite",
+        ),
+        (
+            good.replace(
+                "<row>0.2 0.05</row><row>0.05 0.1</row></spring_relaxation>",
+                "<row>0.2 0.06</row><row>0.05 0.1</row></spring_relaxation>",
+            ),
+            "substructure 1: spring_relaxation is not symmetric",
+        ),
+        (
+            good.replace("<damping><row>", "<dampers><row>")
+                .replace("</damping>", "</dampers>"),
+            "in this order",
+        ),
+        (
+            good.replace("form=\"coupled\"", "form=\"parallel_bank\""),
+            "needs exactly one DOF",
+        ),
+    ];
+    for (text, needle) in cases {
+        let e = Network::from_xml_str(&text, "net.xml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("net.xml"), "{e}");
+        assert!(e.contains(needle), "expected {needle:?} in {e}");
+    }
 }
 
 #[test]
