@@ -349,6 +349,9 @@ fn recently_used<T>(
     Ok(entries.last().expect("an entry was just found or inserted"))
 }
 
+/// One block of a [`BlockDiscretizationCache`]: its states, its inputs, `A_j` and `B_j`.
+type DiscreteBlock = (Vec<usize>, Range<usize>, DMatrix<f64>, DMatrix<f64>);
+
 /// A system of independent blocks, each driven by its own inputs: block j holds the states
 /// `states_j` and obeys `z_j' = A_j z_j + B_j u_(inputs_j)`. A network's branches are such
 /// blocks with one scalar input each (the branch speed `d_b . v`), a substructure one with the
@@ -358,7 +361,7 @@ fn recently_used<T>(
 pub struct BlockDiscretizationCache {
     state_count: usize,
     input_count: usize,
-    blocks: Vec<(Vec<usize>, Range<usize>, DMatrix<f64>, DMatrix<f64>)>,
+    blocks: Vec<DiscreteBlock>,
     capacity: usize,
     entries: Vec<BlockDiscretization>,
 }
@@ -810,8 +813,13 @@ mod tests {
     #[test]
     fn cache_keeps_recent_steps() {
         let (a, b) = seed_system();
-        let mut cache =
-            BlockDiscretizationCache::new(&a, &b, &[vec![0, 1, 2, 3]], &[0..1]).unwrap();
+        let mut cache = BlockDiscretizationCache::new(
+            &a,
+            &b,
+            &[vec![0, 1, 2, 3]],
+            std::slice::from_ref(&(0..1)),
+        )
+        .unwrap();
         let first = cache.get(0.01).unwrap().clone();
         let full = discretize(&a, &b, 0.01, true).unwrap();
         assert_eq!(first.phi, full.phi.transpose().as_slice());
