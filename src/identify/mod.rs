@@ -134,6 +134,7 @@ mod coupled;
 mod error;
 mod params;
 mod problem;
+mod rational;
 mod response;
 mod single_dof;
 pub mod synthesis;
@@ -142,7 +143,7 @@ mod tests;
 pub mod vector_fitting;
 
 pub use error::IdentifyError;
-pub use params::{FitParams, FitReport, DEFAULT_TOLERANCE};
+pub use params::{CoupledMethod, FitParams, FitReport, DEFAULT_TOLERANCE};
 pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
 pub use response::FrequencyResponse;
 
@@ -159,32 +160,63 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
     }
 }
 
-/// One DOF, no form given: the series chain; if it misses the tolerance, the parallel bank
-/// too, and the better of the two by `(tolerance_met, -max_relative_error)`. A failed bank
-/// fit leaves the chain.
+/// One DOF, no form given: the series chain, and with [`CoupledMethod::Rational`] the rational
+/// path (a one-DOF coupled network with a substructure); if the chain misses the tolerance, the parallel bank too.
+/// Among the fits that meet the tolerance the one with the fewest states wins (the chain on a
+/// tie); if none does, the smallest error. A failed alternative leaves the chain.
 fn fit_one_dof_automatic(
     data: &FrequencyResponse,
     params: &FitParams,
 ) -> Result<FitReport, IdentifyError> {
     let chain = fit_form(data, params, NetworkForm::SeriesChain)?;
-    if chain.tolerance_met {
-        return Ok(chain);
+    let mut candidates = vec![chain];
+    if params.coupled_method == CoupledMethod::Rational {
+        if let Ok(rational) = fit_form(data, params, NetworkForm::Coupled) {
+            candidates.push(rational);
+        }
     }
-    let Ok(mut bank) = fit_form(data, params, NetworkForm::ParallelBank) else {
-        return Ok(chain);
+    if !candidates[0].tolerance_met {
+        if let Ok(bank) = fit_form(data, params, NetworkForm::ParallelBank) {
+            candidates.push(bank);
+        }
+    }
+    let describe = |r: &FitReport| {
+        let what = if r.network.substructures.is_empty() {
+            r.network.form.name().to_string()
+        } else {
+            "rational fit (a substructure)".to_string()
+        };
+        format!(
+            "{what}: {} states, {:.3} %",
+            r.states,
+            100.0 * r.max_relative_error
+        )
     };
-    let better = (bank.tolerance_met, -bank.max_relative_error)
-        > (chain.tolerance_met, -chain.max_relative_error);
-    if !better {
-        return Ok(chain);
+    let summary: Vec<String> = candidates.iter().map(describe).collect();
+    let best = if candidates.iter().any(|r| r.tolerance_met) {
+        candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.tolerance_met)
+            .min_by_key(|(k, r)| (r.states, *k))
+            .map(|(k, _)| k)
+    } else {
+        candidates
+            .iter()
+            .enumerate()
+            .min_by(|(_, a), (_, b)| a.max_relative_error.total_cmp(&b.max_relative_error))
+            .map(|(k, _)| k)
     }
-    bank.notes.push(format!(
-        "the series chain misses the tolerance ({:.2} %); the parallel bank meets it better \
-         ({:.2} %) and is used",
-        100.0 * chain.max_relative_error,
-        100.0 * bank.max_relative_error
-    ));
-    Ok(bank)
+    .expect("the chain is a candidate");
+    let mut report = candidates.swap_remove(best);
+    if best != 0 {
+        report.notes.push(format!(
+            "automatic form: {} is used (candidates: {})",
+            describe(&report),
+            summary.join("; ")
+        ));
+    }
+    Ok(report)
 }
 
 /// Fits a network of the given form.
@@ -228,7 +260,21 @@ fn fit_form(
         )));
     }
     let problem = Problem::new(data, params.band)?;
-    let (order, network, iterations) = if form == NetworkForm::Coupled {
+    let rational = form == NetworkForm::Coupled
+        && params.coupled_stages.is_none()
+        && params.coupled_method == CoupledMethod::Rational;
+    let mut notes = Vec::new();
+    let (order, network, iterations) = if rational {
+        match rational::fit_rational(&problem, data, params, tolerance) {
+            Ok(fit) => fit,
+            Err(e) => {
+                notes.push(format!(
+                    "the rational path failed ({e}); branch chains are used"
+                ));
+                problem.fit_coupled_network(params, tolerance)?
+            }
+        }
+    } else if form == NetworkForm::Coupled {
         problem.fit_coupled_network(params, tolerance)?
     } else {
         problem.fit_single_dof(params, form, tolerance)?
@@ -243,5 +289,7 @@ fn fit_form(
             "the fitted network is not valid ({e}); check the data"
         ))
     })?;
-    Ok(problem.report(network, order, tolerance, iterations))
+    let mut report = problem.report(network, order, tolerance, iterations);
+    report.notes = notes;
+    Ok(report)
 }

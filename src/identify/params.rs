@@ -38,6 +38,20 @@ pub struct FitParams {
     /// `Some(2)` the dictionary and two-stage variable projection; `Some(3 | 4)` variable
     /// projection with that many stages.
     pub coupled_stages: Option<usize>,
+    /// How the coupled form is fitted; default [`CoupledMethod::Chains`] (the rational path is
+    /// opt-in until its order search meets the fit-time budget; then it becomes the default).
+    pub coupled_method: CoupledMethod,
+}
+
+/// How the coupled form is fitted (module docs of [`crate::identify`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CoupledMethod {
+    /// Passive vector fitting per invariant block, realized as one mechanical substructure
+    /// (fewest states). Falls back to [`CoupledMethod::Chains`] if no order gives
+    /// a passive network.
+    Rational,
+    /// Groups of branch chains (the default); also used whenever `coupled_stages` is set.
+    Chains,
 }
 
 impl Default for FitParams {
@@ -52,6 +66,7 @@ impl Default for FitParams {
             restarts: 12,
             seed: 1,
             coupled_stages: None,
+            coupled_method: CoupledMethod::Chains,
         }
     }
 }
@@ -69,6 +84,8 @@ pub struct FitReport {
     pub order: usize,
     /// Auxiliary masses of the network.
     pub aux_dofs: usize,
+    /// States of the realized network ([`Network::state_count`]).
+    pub states: usize,
     /// Largest `|A~_ij - H_ij|` over the band, per entry (A~ units).
     pub max_error: DMatrix<f64>,
     /// RMS of `|A~_ij - H_ij|` over the band points, per entry.

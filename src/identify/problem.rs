@@ -161,6 +161,7 @@ impl Problem {
         }
         FitReport {
             aux_dofs: network.aux_dof_count(),
+            states: network.state_count(),
             network,
             order,
             max_error,
@@ -236,10 +237,24 @@ pub fn dof_scales(added_mass: &[DMatrix<Complex64>]) -> Option<DVector<f64>> {
 pub const FASTEST_RATE_OVER_BAND: f64 = 1e4;
 
 /// The fastest rate (1/s) of a network's stages: `sqrt(k / m)` and `c / m` for the masses
-/// each spring and damper acts on. An upper estimate of the state matrix's largest
-/// eigenvalue, cheap and robust for any values.
+/// each spring and damper acts on (an upper estimate of the state matrix's largest
+/// eigenvalue, cheap and robust for any values), and the largest eigenvalue modulus of each
+/// substructure.
 pub fn fastest_rate(network: &Network) -> f64 {
-    network.branches.iter().map(branch_rate).fold(0.0, f64::max)
+    let substructures = network.substructures.iter().map(|sub| {
+        sub.impedance_realization()
+            .a
+            .complex_eigenvalues()
+            .iter()
+            .map(|p| p.norm())
+            .fold(0.0, f64::max)
+    });
+    network
+        .branches
+        .iter()
+        .map(branch_rate)
+        .chain(substructures)
+        .fold(0.0, f64::max)
 }
 
 /// [`fastest_rate`] of one branch.

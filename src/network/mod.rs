@@ -414,8 +414,11 @@ fn check_symmetric_psd(name: &str, m: &DMatrix<f64>, tolerance: f64) -> Result<(
             }
         }
     }
+    if n == 0 {
+        return Ok(());
+    }
     let min_eigen = m.clone().symmetric_eigenvalues().min();
-    if n > 0 && min_eigen < -tolerance * scale {
+    if min_eigen < -tolerance * scale {
         return Err(format!(
             "{name} is not positive semi-definite (smallest eigenvalue {min_eigen:e})"
         ));

@@ -13,7 +13,7 @@ use nalgebra::DMatrix;
 /// The PSD projection `P(M)` of the module docs.
 pub fn project_psd(m: &DMatrix<f64>) -> DMatrix<f64> {
     let sym = (m + m.transpose()) * 0.5;
-    if sym.clone().cholesky().is_some() {
+    if sym.is_empty() || sym.clone().cholesky().is_some() {
         return sym;
     }
     let eigen = sym.symmetric_eigen();
