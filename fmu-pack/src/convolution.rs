@@ -127,6 +127,7 @@ mod tests {
                 direction: DVector::from_element(1, 1.0),
                 stages: vec![stage(0.5434, 0.2339, 0.9962), stage(0.1877, 0.5522, 0.2453)],
             }],
+            substructures: Vec::new(),
             rho: 1.0,
             g: 1.0,
             form: NetworkForm::SeriesChain,
