@@ -476,6 +476,32 @@ impl Block<'_> {
     }
 }
 
+/// The block owning each of `count` items (states or inputs), refused unless the groups
+/// partition `0..count`; `what` names the items in the error.
+fn owners(
+    count: usize,
+    groups: impl Iterator<Item = Vec<usize>>,
+    what: &str,
+) -> Result<Vec<usize>, DiscretizeError> {
+    let mut owner = vec![usize::MAX; count];
+    for (j, group) in groups.enumerate() {
+        for i in group {
+            if i >= count || owner[i] != usize::MAX {
+                return Err(DiscretizeError::Dimensions(format!(
+                    "block {j}: {what} {i} is out of range or in two blocks"
+                )));
+            }
+            owner[i] = j;
+        }
+    }
+    if owner.contains(&usize::MAX) {
+        return Err(DiscretizeError::Dimensions(format!(
+            "the blocks do not cover every {what}"
+        )));
+    }
+    Ok(owner)
+}
+
 impl BlockDiscretizationCache {
     /// Number of step sizes kept (masters usually use one or two).
     pub const DEFAULT_CAPACITY: usize = 4;
@@ -498,38 +524,12 @@ impl BlockDiscretizationCache {
                 blocks.len()
             )));
         }
-        let mut input_owner = vec![usize::MAX; b.ncols()];
-        for (j, range) in inputs.iter().enumerate() {
-            for c in range.clone() {
-                if c >= b.ncols() || input_owner[c] != usize::MAX {
-                    return Err(DiscretizeError::Dimensions(format!(
-                        "block {j}: input {c} is out of range or in two blocks"
-                    )));
-                }
-                input_owner[c] = j;
-            }
-        }
-        if input_owner.contains(&usize::MAX) {
-            return Err(DiscretizeError::Dimensions(
-                "the blocks do not cover every input".into(),
-            ));
-        }
-        let mut owner = vec![usize::MAX; ns];
-        for (j, states) in blocks.iter().enumerate() {
-            for &i in states {
-                if i >= ns || owner[i] != usize::MAX {
-                    return Err(DiscretizeError::Dimensions(format!(
-                        "block {j}: state {i} is out of range or in two blocks"
-                    )));
-                }
-                owner[i] = j;
-            }
-        }
-        if owner.contains(&usize::MAX) {
-            return Err(DiscretizeError::Dimensions(
-                "the blocks do not cover every state".into(),
-            ));
-        }
+        let input_owner = owners(
+            b.ncols(),
+            inputs.iter().map(|r| r.clone().collect::<Vec<_>>()),
+            "input",
+        )?;
+        let owner = owners(ns, blocks.iter().cloned(), "state")?;
         for i in 0..ns {
             let coupled = (0..ns).any(|k| owner[k] != owner[i] && a[(i, k)] != 0.0);
             let driven = (0..b.ncols()).any(|c| owner[i] != input_owner[c] && b[(i, c)] != 0.0);

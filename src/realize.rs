@@ -372,7 +372,7 @@ mod tests {
     #[test]
     fn state_space_transfer_matches_network() {
         let with_substructure = Network::from_xml_str(
-            crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK,
+            &crate::model::tests::two_dof_substructure_network(),
             "substructure.xml",
         )
         .unwrap()

@@ -346,15 +346,13 @@ fn assert_realized_as_network(
     // level (relative 1e-8 .. 1e-6 here): the PSD projection moves that much, no more.
     assert!(report.projection < 1e-6, "{report:?}");
     let data = semicircle();
-    let net = hydrofmu::network::Network {
-        dof_names: data.dof_names.clone(),
-        added_mass_inf: data.added_mass_inf.clone(),
-        branches: Vec::new(),
-        substructures: vec![sub],
-        rho: data.rho,
-        g: data.g,
-        form: NetworkForm::Coupled,
-    };
+    let net = hydrofmu::network::Network::from_substructure(
+        data.dof_names.clone(),
+        data.added_mass_inf.clone(),
+        sub,
+        data.rho,
+        data.g,
+    );
     let scales = &fit.dof_scales;
     let mut worst: f64 = 0.0;
     for (omega, target) in data.omega.iter().zip(&data.added_mass) {

@@ -17,7 +17,7 @@ use super::problem::Problem;
 use super::synthesis::synthesize;
 use super::vector_fitting::{passive_block_vector_fit, RationalFit, VectorFitParams};
 use super::{FitParams, FrequencyResponse, IdentifyError};
-use crate::network::{Network, NetworkForm};
+use crate::network::Network;
 
 /// How far outside the band a pole modulus may lie (factor).
 pub const POLE_RANGE: f64 = 30.0;
@@ -59,15 +59,13 @@ fn candidate(
         ));
     }
     let (substructure, _) = synthesize(&fit).map_err(|e| e.to_string())?;
-    let network = Network {
-        dof_names: problem.dof_names.clone(),
-        added_mass_inf: problem.added_mass_inf.clone(),
-        branches: Vec::new(),
-        substructures: vec![substructure],
-        rho: problem.rho,
-        g: problem.g,
-        form: NetworkForm::Coupled,
-    };
+    let network = Network::from_substructure(
+        problem.dof_names.clone(),
+        problem.added_mass_inf.clone(),
+        substructure,
+        problem.rho,
+        problem.g,
+    );
     network.validate().map_err(|e| e.to_string())?;
     Ok((problem.max_relative_error(&network), network, fit))
 }

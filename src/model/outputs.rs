@@ -311,18 +311,20 @@ impl Model {
 mod tests {
     use super::*;
     use crate::model::tests::{
-        model, seed, SEED_NETWORK, TWO_DOF_NETWORK, TWO_DOF_SUBSTRUCTURE_NETWORK,
+        model, seed, two_dof_substructure_network, SEED_NETWORK, TWO_DOF_NETWORK,
     };
 
     /// The networks of the output tests: branches only, and branches with a substructure.
-    const NETWORKS: [&str; 2] = [TWO_DOF_NETWORK, TWO_DOF_SUBSTRUCTURE_NETWORK];
+    fn networks() -> [String; 2] {
+        [TWO_DOF_NETWORK.to_string(), two_dof_substructure_network()]
+    }
 
     #[test]
     fn energy_balance_holds_and_dissipation_is_positive() {
         // Work done on the water (trapezoid of power with a smooth input over small steps)
         // = stored energy + dissipated >= stored energy.
-        for network in NETWORKS {
-            let mut model = model(network, false);
+        for network in networks() {
+            let mut model = model(&network, false);
             model.set_parameters(1025.0, 9.81).unwrap();
             let h = 1e-3;
             let mut work = 0.0;
@@ -387,8 +389,8 @@ mod tests {
 
     #[test]
     fn output_derivative_matches_finite_difference() {
-        for network in NETWORKS {
-            let mut m = model(network, false);
+        for network in networks() {
+            let mut m = model(&network, false);
             m.set_value(Quantity::Velocity(0), 0.5).unwrap();
             m.set_value(Quantity::Velocity(1), -0.2).unwrap();
             m.step(0.0, 0.3).unwrap();
@@ -412,8 +414,8 @@ mod tests {
 
     #[test]
     fn partial_derivatives_match_finite_differences() {
-        for network in NETWORKS {
-            let mut m = model(network, true);
+        for network in networks() {
+            let mut m = model(&network, true);
             m.set_value(Quantity::Velocity(0), 0.5).unwrap();
             m.set_value(Quantity::Velocity(1), -0.2).unwrap();
             m.set_value(Quantity::Acceleration(1), 0.7).unwrap();
@@ -461,9 +463,9 @@ mod tests {
         // (p = rho or g). Tolerance 1e-7 (|exact| + |value| / p).
         for (keep, network) in [false, true]
             .into_iter()
-            .flat_map(|k| NETWORKS.map(|n| (k, n)))
+            .flat_map(|k| networks().map(|n| (k, n)))
         {
-            let mut m = model(network, keep);
+            let mut m = model(&network, keep);
             m.set_parameters(1025.0, 9.81).unwrap();
             m.set_value(Quantity::Velocity(0), 0.5).unwrap();
             m.set_value(Quantity::Velocity(1), -0.2).unwrap();

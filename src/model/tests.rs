@@ -22,27 +22,19 @@ pub(crate) const TWO_DOF_NETWORK: &str = r#"<network format_version="1" form="co
 </network>
 "#;
 
-/// The same with a substructure added (one unit mass, two relaxed springs, full damping).
-pub(crate) const TWO_DOF_SUBSTRUCTURE_NETWORK: &str = r#"<network format_version="1" form="coupled" rho="1" g="1">
-  <dof name="sway"/>
-  <dof name="roll"/>
-  <added_mass_inf><row>0.2 0.05</row><row>0.05 0.1</row></added_mass_inf>
-  <branch>
-<direction>1 0</direction>
-<stage mass="0.5" stiffness="0.3" damping="0.8"/>
-<stage mass="0.2" stiffness="0.5" damping="0.2"/>
-  </branch>
-  <branch>
-<direction>0.3 1</direction>
-<stage mass="0.4" stiffness="0.7" damping="0.6"/>
-  </branch>
-  <substructure springs="2" masses="1">
+/// The substructure of [`two_dof_substructure_network`] (one unit mass, two relaxed springs,
+/// full damping).
+const SUBSTRUCTURE: &str = r#"  <substructure springs="2" masses="1">
 <spring_incidence><row>1 -0.7 0.2</row><row>0.4 0.3 -1.1</row></spring_incidence>
 <spring_relaxation><row>0.2 0.05</row><row>0.05 0.1</row></spring_relaxation>
 <damping><row>0.5 -0.2 0.1</row><row>-0.2 0.3 0</row><row>0.1 0 0.2</row></damping>
   </substructure>
-</network>
 "#;
+
+/// [`TWO_DOF_NETWORK`] with a substructure added after its branches.
+pub(crate) fn two_dof_substructure_network() -> String {
+    TWO_DOF_NETWORK.replace("</network>", &format!("{SUBSTRUCTURE}</network>"))
+}
 
 /// The component of a network text, at the default rho and g, with the default GUID.
 pub(crate) fn model(network: &str, keep_inf_mass: bool) -> Model {

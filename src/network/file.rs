@@ -170,6 +170,15 @@ pub const MAX_SUBSTRUCTURE_STATES: usize = 4096;
 fn matrix(element: &Element, rows: usize, cols: usize) -> Result<DMatrix<f64>, XmlError> {
     element.only_attributes(&[])?;
     element.no_text()?;
+    if let Some(other) = element.children.iter().find(|c| c.name != "row") {
+        return Err(other.error(format!(
+            "unexpected element <{}> in <{}>",
+            other.name, element.name
+        )));
+    }
+    if let Some(extra) = element.children.get(rows) {
+        return Err(extra.error(format!("<{}> has more than {rows} rows", element.name)));
+    }
     if element.children.len() != rows {
         return Err(element.error(format!(
             "<{}> has {} rows, expected {rows}",
@@ -179,12 +188,6 @@ fn matrix(element: &Element, rows: usize, cols: usize) -> Result<DMatrix<f64>, X
     }
     let mut m = DMatrix::zeros(rows, cols);
     for (i, row) in element.children.iter().enumerate() {
-        if row.name != "row" {
-            return Err(row.error(format!(
-                "unexpected element <{}> in <{}>",
-                row.name, element.name
-            )));
-        }
         row.no_children()?;
         row.only_attributes(&[])?;
         let values = row.text_numbers()?;
@@ -305,32 +308,8 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                     return Err(child.error("<added_mass_inf> before any <dof>"));
                 }
                 phase = 1;
-                child.only_attributes(&[])?;
-                child.no_text()?;
                 let n = dof_names.len();
-                let mut matrix = DMatrix::zeros(n, n);
-                let mut rows = 0;
-                for row in &child.children {
-                    if row.name != "row" {
-                        return Err(row.error(format!(
-                            "unexpected element <{}> in <added_mass_inf>",
-                            row.name
-                        )));
-                    }
-                    if rows == n {
-                        return Err(row.error(format!("<added_mass_inf> has more than {n} rows")));
-                    }
-                    let values = numbers(row, n)?;
-                    for (j, v) in values.into_iter().enumerate() {
-                        matrix[(rows, j)] = v;
-                    }
-                    rows += 1;
-                }
-                if rows != n {
-                    return Err(
-                        child.error(format!("<added_mass_inf> has {rows} rows, expected {n}"))
-                    );
-                }
+                let matrix = matrix(child, n, n)?;
                 added_mass_inf = Some(matrix);
             }
             "substructure" => {

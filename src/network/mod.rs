@@ -196,6 +196,25 @@ pub struct Network {
 }
 
 impl Network {
+    /// A coupled network of `A_inf` and one substructure (what the rational fit gives).
+    pub fn from_substructure(
+        dof_names: Vec<String>,
+        added_mass_inf: DMatrix<f64>,
+        substructure: Substructure,
+        rho: f64,
+        g: f64,
+    ) -> Network {
+        Network {
+            dof_names,
+            added_mass_inf,
+            branches: Vec::new(),
+            substructures: vec![substructure],
+            rho,
+            g,
+            form: NetworkForm::Coupled,
+        }
+    }
+
     /// Number of hull DOFs.
     pub fn dof_count(&self) -> usize {
         self.dof_names.len()

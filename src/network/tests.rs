@@ -174,17 +174,20 @@ fn xml_round_trip_is_exact() {
     odd.branches[0].stages[0].stiffness = 3.3e12;
     let back = Network::from_xml_str(&odd.to_xml_string(), "memory").unwrap();
     assert_eq!(back, odd);
-    let with_substructure =
-        Network::from_xml_str(crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK, "memory")
-            .unwrap()
-            .scaled(1025.0, 9.81);
+    let with_substructure = Network::from_xml_str(
+        &crate::model::tests::two_dof_substructure_network(),
+        "memory",
+    )
+    .unwrap()
+    .scaled(1025.0, 9.81);
     let back = Network::from_xml_str(&with_substructure.to_xml_string(), "memory").unwrap();
     assert_eq!(back, with_substructure);
 }
 
 #[test]
 fn substructure_errors_name_file_line_and_problem() {
-    let good = crate::model::tests::TWO_DOF_SUBSTRUCTURE_NETWORK;
+    let good = crate::model::tests::two_dof_substructure_network();
+    let good = good.as_str();
     assert!(Network::from_xml_str(good, "net.xml").is_ok());
     let cases = [
         (
