@@ -28,9 +28,14 @@
 //! and the accuracy of the eigenvalues. `omega = 0` is always a double root for a network
 //! without a spring to ground (`Z(0) = 0`); `eps` moves it off the axis.
 //!
+//! Eigenvalues come from a Schur iteration with a bounded number of steps; if it does not
+//! converge, the system is reported unstable (state matrix) or not passive (Hamiltonian):
+//! the check never calls undecided passive, and never hangs.
+//!
 //! A network whose elements are all positive (`m, k, c > 0`, [`crate::realize`]) is passive by
 //! construction; this check verifies it independently of how the network was built.
 
+use crate::numerics::eigenvalues;
 use crate::realize::StateSpace;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
@@ -101,9 +106,13 @@ impl Realization<'_> {
 pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
     let states = system.state_count();
     let n = system.input_count();
-    let poles = system.a.complex_eigenvalues();
+    // A state matrix whose eigenvalues cannot be computed counts as unstable (not passive).
+    let (poles, decided) = match eigenvalues(system.a) {
+        Some(poles) => (poles, true),
+        None => (Vec::new(), false),
+    };
     let largest_pole = poles.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    let stable = poles.iter().all(|p| p.re <= 1e-12 * largest_pole);
+    let stable = decided && poles.iter().all(|p| p.re <= 1e-12 * largest_pole);
     let slowest_pole = poles.iter().copied().max_by(|a, b| a.re.total_cmp(&b.re));
     let impedance =
         |omega: f64| -> DMatrix<Complex64> { -system.transfer(Complex64::new(0.0, omega)) };
@@ -132,6 +141,7 @@ pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityRepor
     let eps = tolerance * scale;
 
     let mut crossings = Vec::new();
+    let mut hamiltonian_failed = false;
     if states > 0 && stable {
         // R = D' + D'^T with D' = -D + eps I; C' = -C.
         let d_prime = -system.d + DMatrix::identity(n, n) * eps;
@@ -148,12 +158,17 @@ pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityRepor
                 .copy_from(&(c_prime.transpose() * &r_inv * &c_prime));
             m.view_mut((states, states), (states, states))
                 .copy_from(&(-top_left.transpose()));
-            let eigenvalues = m.complex_eigenvalues();
-            let largest = eigenvalues.iter().map(|e| e.norm()).fold(0.0, f64::max);
-            for e in eigenvalues.iter() {
-                if e.im >= 0.0 && e.re.abs() <= 1e-7 * largest.max(1.0) {
-                    crossings.push(e.im);
+            match eigenvalues(&m) {
+                Some(values) => {
+                    let largest = values.iter().map(|e| e.norm()).fold(0.0, f64::max);
+                    for e in values.iter() {
+                        if e.im >= 0.0 && e.re.abs() <= 1e-7 * largest.max(1.0) {
+                            crossings.push(e.im);
+                        }
+                    }
                 }
+                // Undecided: never reported passive.
+                None => hamiltonian_failed = true,
             }
         }
     }
@@ -199,7 +214,7 @@ pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityRepor
     }
     let min_eigenvalue = min_eigenvalue / scale;
     PassivityReport {
-        passive: stable && min_eigenvalue >= -tolerance,
+        passive: stable && !hamiltonian_failed && min_eigenvalue >= -tolerance,
         stable,
         slowest_pole,
         scale,

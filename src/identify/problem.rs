@@ -242,12 +242,10 @@ pub const FASTEST_RATE_OVER_BAND: f64 = 1e4;
 /// substructure.
 pub fn fastest_rate(network: &Network) -> f64 {
     let substructures = network.substructures.iter().map(|sub| {
-        sub.impedance_realization()
-            .a
-            .complex_eigenvalues()
-            .iter()
-            .map(|p| p.norm())
-            .fold(0.0, f64::max)
+        // Undecidable eigenvalues count as infinitely fast (the network is refused).
+        crate::numerics::eigenvalues(&sub.impedance_realization().a).map_or(f64::INFINITY, |e| {
+            e.iter().map(|p| p.norm()).fold(0.0, f64::max)
+        })
     });
     network
         .branches

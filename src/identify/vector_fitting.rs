@@ -316,7 +316,10 @@ fn relocate(poles: &Poles, s: &[Complex64], entries: &[DVector<Complex64>]) -> P
             j += 2;
         }
     }
-    let zeros = (h - b * c.transpose() / d).complex_eigenvalues();
+    // A relocation that cannot be computed keeps the poles it started from.
+    let Some(zeros) = crate::numerics::eigenvalues(&(h - b * c.transpose() / d)) else {
+        return poles.clone();
+    };
     let largest = zeros.iter().map(|z| z.norm()).fold(0.0, f64::max);
     let mut out: Poles = Vec::new();
     for z in zeros.iter() {
