@@ -111,12 +111,13 @@ pub fn text(built: &Built) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "network: {} over {} DOFs ({}), order {}, {} auxiliary DOFs",
+        "network: {} over {} DOFs ({}), order {}, {} auxiliary DOFs, {} states",
         fit.network.form,
         names.len(),
         names.join(" "),
         fit.order,
-        fit.aux_dofs
+        fit.aux_dofs,
+        fit.states
     );
     let _ = writeln!(
         out,
@@ -172,6 +173,17 @@ pub fn text(built: &Built) -> String {
             );
         }
     }
+    for (k, sub) in fit.network.substructures.iter().enumerate() {
+        let relaxed = sub.spring_relaxation.norm() > 0.0;
+        let _ = writeln!(
+            out,
+            "  substructure {k}: {} unit springs{}, {} unit masses, damping over masses and \
+             hull (the matrices are in the network file)",
+            sub.spring_count(),
+            if relaxed { " (relaxed)" } else { "" },
+            sub.masses
+        );
+    }
     out
 }
 
@@ -213,12 +225,28 @@ pub fn json(built: &Built) -> String {
             )
         })
         .collect();
+    let substructures: Vec<String> = fit
+        .network
+        .substructures
+        .iter()
+        .map(|sub| {
+            format!(
+                "{{\"springs\":{},\"masses\":{},\"spring_incidence\":{},\
+                 \"spring_relaxation\":{},\"damping\":{}}}",
+                sub.spring_count(),
+                sub.masses,
+                matrix(&sub.spring_incidence),
+                matrix(&sub.spring_relaxation),
+                matrix(&sub.damping)
+            )
+        })
+        .collect();
     let dofs: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
     format!(
         "{{\"dofs\":[{}],\"form\":\"{}\",\"order\":{},\"aux_dofs\":{},\"band_rad_per_s\":[{},{}],\
          \"points\":{},\"tolerance\":{},\"tolerance_met\":{},\"max_relative_error\":{},\
          \"max_error\":{},\"rms_error\":{},\"error_scale\":{},\"added_mass_inf\":{},\
-         \"rho\":{},\"g\":{},\"branches\":[{}],\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{}}}",
+         \"rho\":{},\"g\":{},\"branches\":[{}],\"substructures\":[{}],\"states\":{},\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{}}}",
         dofs.join(","),
         fit.network.form,
         fit.order,
@@ -236,6 +264,8 @@ pub fn json(built: &Built) -> String {
         number(fit.network.rho),
         number(fit.network.g),
         branches.join(","),
+        substructures.join(","),
+        fit.states,
         number(built.sweep_time.as_secs_f64()),
         number(built.fit_time.as_secs_f64()),
         fit.iterations

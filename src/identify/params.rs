@@ -7,11 +7,10 @@ use crate::network::{Network, NetworkForm};
 /// Settings of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitParams {
-    /// Network form; `None` (default): automatic. Several DOFs: [`NetworkForm::Coupled`].
-    /// One DOF: [`NetworkForm::SeriesChain`] (the seed's form); if it misses the tolerance,
-    /// [`NetworkForm::ParallelBank`] is fitted too and replaces it if it is better by
-    /// `(tolerance_met, -max_relative_error)`, said in [`FitReport::notes`]. The single-DOF
-    /// forms need one-DOF data (see
+    /// Network form; `None` (default): automatic (module docs of [`crate::identify`]):
+    /// several DOFs get [`NetworkForm::Coupled`]; one DOF the fewest states among the series
+    /// chain, the rational fit and (if the chain misses the tolerance) the parallel bank. The
+    /// single-DOF forms need one-DOF data (see
     /// [`FrequencyResponse::select`](super::FrequencyResponse::select)).
     pub form: Option<NetworkForm>,
     /// Frequency band (rad/s), inclusive; default `(0, inf)`: every data point.
@@ -38,8 +37,7 @@ pub struct FitParams {
     /// `Some(2)` the dictionary and two-stage variable projection; `Some(3 | 4)` variable
     /// projection with that many stages.
     pub coupled_stages: Option<usize>,
-    /// How the coupled form is fitted; default [`CoupledMethod::Chains`] (the rational path is
-    /// opt-in until its order search meets the fit-time budget; then it becomes the default).
+    /// How the coupled form is fitted; default [`CoupledMethod::Rational`].
     pub coupled_method: CoupledMethod,
 }
 
@@ -47,10 +45,11 @@ pub struct FitParams {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CoupledMethod {
     /// Passive vector fitting per invariant block, realized as one mechanical substructure
-    /// (fewest states). Falls back to [`CoupledMethod::Chains`] if no order gives
+    /// (fewest states; the default). Falls back to [`CoupledMethod::Chains`] if no order gives
     /// a passive network.
     Rational,
-    /// Groups of branch chains (the default); also used whenever `coupled_stages` is set.
+    /// Groups of branch chains (the coupled form before substructures); also used whenever
+    /// `coupled_stages` is set.
     Chains,
 }
 
@@ -66,7 +65,7 @@ impl Default for FitParams {
             restarts: 12,
             seed: 1,
             coupled_stages: None,
-            coupled_method: CoupledMethod::Chains,
+            coupled_method: CoupledMethod::Rational,
         }
     }
 }

@@ -7,6 +7,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::*;
+use crate::identify::CoupledMethod;
 use crate::network::{Branch, Network, NetworkForm, Stage};
 use crate::numerics::SplitMix64;
 
@@ -319,11 +320,30 @@ fn negative_added_mass_with_a_sharp_peak() {
 
 #[test]
 fn automatic_form_keeps_a_chain_that_meets_the_tolerance() {
+    // With the chains only, a chain that meets the tolerance is the answer.
     let data = log_heave(&log_grid(omega_of(0.01), omega_of(4.0), 80));
-    let auto = fit_ok(&data, &FitParams::default());
-    assert_eq!(auto, fit_ok(&data, &series_chain()));
+    let chains_only = FitParams {
+        coupled_method: CoupledMethod::Chains,
+        ..FitParams::default()
+    };
+    let auto = fit_ok(&data, &chains_only);
+    let chain = fit_ok(&data, &series_chain());
+    assert_eq!(auto, chain);
     assert!(auto.tolerance_met && auto.notes.is_empty());
     assert_eq!(auto.network.form, NetworkForm::SeriesChain);
+    // With the rational path (default) the fewest states win: two masses on dampers (two real
+    // poles) against the chain's four states, both within the tolerance.
+    let auto = fit_ok(&data, &FitParams::default());
+    assert!(auto.tolerance_met, "{}", auto.max_relative_error);
+    assert_eq!(auto.network.substructures.len(), 1);
+    assert!(
+        auto.states < chain.states,
+        "{} vs {}",
+        auto.states,
+        chain.states
+    );
+    assert_eq!(auto.notes.len(), 1);
+    assert!(auto.notes[0].contains("series_chain: "), "{:?}", auto.notes);
 }
 
 #[test]
@@ -342,7 +362,13 @@ fn automatic_form_takes_the_parallel_bank_when_the_chain_misses() {
         },
     );
     assert!(!chain.tolerance_met && bank.tolerance_met);
-    let auto = fit_ok(&data, &FitParams::default());
+    let auto = fit_ok(
+        &data,
+        &FitParams {
+            coupled_method: CoupledMethod::Chains,
+            ..FitParams::default()
+        },
+    );
     assert_eq!(auto.network.form, NetworkForm::ParallelBank);
     assert_eq!(auto.notes.len(), 1);
     assert!(

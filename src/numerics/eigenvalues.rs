@@ -1,6 +1,7 @@
 //! Eigenvalues of a real square matrix by the real Schur decomposition (Francis QR steps) with
-//! a bounded number of iterations: a matrix on which the iteration does not converge (or with a
-//! non-finite entry) gives `None` instead of an endless loop.
+//! a bounded number of iterations; where nalgebra's iteration (which has no exceptional shifts)
+//! stalls, faer's (LAPACK's with exceptional shifts) is used. A non-finite entry, or no finite
+//! result from either, gives `None` instead of an endless loop.
 
 use nalgebra::{linalg::Schur, DMatrix};
 use num_complex::Complex64;
@@ -14,8 +15,14 @@ pub fn eigenvalues(m: &DMatrix<f64>) -> Option<Vec<Complex64>> {
         return None;
     }
     let limit = ITERATIONS_PER_ROW * m.nrows().max(10);
-    let schur = Schur::try_new(m.clone(), f64::EPSILON, limit)?;
-    Some(schur.complex_eigenvalues().iter().copied().collect())
+    if let Some(schur) = Schur::try_new(m.clone(), f64::EPSILON, limit) {
+        return Some(schur.complex_eigenvalues().iter().copied().collect());
+    }
+    let n = m.nrows();
+    let values: Vec<faer::complex_native::c64> =
+        faer::Mat::<f64>::from_fn(n, n, |i, j| m[(i, j)]).eigenvalues();
+    let values: Vec<Complex64> = values.iter().map(|z| Complex64::new(z.re, z.im)).collect();
+    values.iter().all(|z| z.is_finite()).then_some(values)
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use num_complex::Complex64;
 use super::blocks::{invariant_blocks, COMMUTANT_THRESHOLD};
 use crate::identify::problem::Problem;
 use crate::identify::tests::{coupled_truth, fit_ok, log_grid, stage, unit_mass, G, RHO};
-use crate::identify::{FitParams, FrequencyResponse, DEFAULT_TOLERANCE};
+use crate::identify::{CoupledMethod, FitParams, FrequencyResponse, DEFAULT_TOLERANCE};
 use crate::network::{Branch, Network, NetworkForm};
 
 #[test]
@@ -18,6 +18,7 @@ fn coupled_network_is_reconstructed_with_weak_couplings() {
     let report = fit_ok(
         &data,
         &FitParams {
+            coupled_method: CoupledMethod::Chains,
             form: Some(NetworkForm::Coupled),
             tolerance: Some(1e-7),
             ..FitParams::default()
@@ -175,6 +176,7 @@ fn mirror_symmetric_network_is_fitted_block_by_block() {
     let report = fit_ok(
         &data,
         &FitParams {
+            coupled_method: CoupledMethod::Chains,
             form: Some(NetworkForm::Coupled),
             tolerance: Some(1e-7),
             ..FitParams::default()
@@ -200,6 +202,7 @@ fn slightly_asymmetric_or_indefinite_added_mass_inf_is_cleaned() {
     let report = fit_ok(
         &data,
         &FitParams {
+            coupled_method: CoupledMethod::Chains,
             form: Some(NetworkForm::Coupled),
             ..FitParams::default()
         },
