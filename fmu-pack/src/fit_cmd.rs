@@ -24,7 +24,8 @@ pub struct FitArgs {
     /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
     #[arg(long = "tol")]
     pub tolerance: Option<f64>,
-    /// Fixed order (auxiliary DOFs per chain, or poles of the coupled network).
+    /// Fixed order (auxiliary DOFs of a chain; for the coupled network, poles per invariant
+    /// block, a complex pair counted twice).
     #[arg(long)]
     pub order: Option<usize>,
     /// Largest communication step the master will use, in s: the band is cut at its

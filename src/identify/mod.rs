@@ -101,13 +101,13 @@
 //!   rounding (singular values 1e-15 against 7e-3 of the largest for the first genuine
 //!   coupling); a DOF that moves no water (its roll) lies outside the reduced subspace and
 //!   gets no branch.
-//! * Rational path (coupled, [`CoupledMethod::Rational`], the default): passive vector
+//! * Rational path (coupled, [`CoupledMethod::Rational`], opt-in for now): passive vector
 //!   fitting of every invariant block ([`vector_fitting`]), with poles kept within a factor
 //!   30 of the band, realized as one mechanical substructure ([`synthesis`]); the order is the
 //!   number of poles per block, the smallest that meets the tolerance wins. On the
 //!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.75 %, where the chains need 56.
-//!   For one DOF (automatic form) it competes with the series chain and the parallel bank:
-//!   the fewest states within the tolerance win.
+//!   For one DOF (automatic form) it then competes with the series chain and the parallel
+//!   bank: the fewest states within the tolerance win.
 //! * Pruning (coupled): the branches are tried for removal in order of their largest
 //!   normalized contribution `max_band |G_b(i omega)| max_i d_i^2 / s_i`; a branch goes if the
 //!   network without it still meets the tolerance (if the tolerance is not met: if the error

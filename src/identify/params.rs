@@ -9,7 +9,8 @@ use crate::network::{Network, NetworkForm};
 pub struct FitParams {
     /// Network form; `None` (default): automatic (module docs of [`crate::identify`]):
     /// several DOFs get [`NetworkForm::Coupled`]; one DOF the fewest states among the series
-    /// chain, the rational fit and (if the chain misses the tolerance) the parallel bank. The
+    /// chain, the rational fit (with [`CoupledMethod::Rational`]) and (if the chain misses the
+    /// tolerance) the parallel bank. The
     /// single-DOF forms need one-DOF data (see
     /// [`FrequencyResponse::select`](super::FrequencyResponse::select)).
     pub form: Option<NetworkForm>,
@@ -37,7 +38,9 @@ pub struct FitParams {
     /// `Some(2)` the dictionary and two-stage variable projection; `Some(3 | 4)` variable
     /// projection with that many stages.
     pub coupled_stages: Option<usize>,
-    /// How the coupled form is fitted; default [`CoupledMethod::Rational`].
+    /// How the coupled form is fitted; default [`CoupledMethod::Chains`] until the
+    /// co-simulation examples' monolithic references (Python, `examples/cosim`) read
+    /// substructures; then [`CoupledMethod::Rational`] becomes the default.
     pub coupled_method: CoupledMethod,
 }
 
@@ -45,11 +48,11 @@ pub struct FitParams {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CoupledMethod {
     /// Passive vector fitting per invariant block, realized as one mechanical substructure
-    /// (fewest states; the default). Falls back to [`CoupledMethod::Chains`] if no order gives
+    /// (fewest states). Falls back to [`CoupledMethod::Chains`] if no order gives
     /// a passive network.
     Rational,
-    /// Groups of branch chains (the coupled form before substructures); also used whenever
-    /// `coupled_stages` is set.
+    /// Groups of branch chains (the default for now); also used whenever `coupled_stages` is
+    /// set.
     Chains,
 }
 
@@ -65,7 +68,7 @@ impl Default for FitParams {
             restarts: 12,
             seed: 1,
             coupled_stages: None,
-            coupled_method: CoupledMethod::Rational,
+            coupled_method: CoupledMethod::Chains,
         }
     }
 }

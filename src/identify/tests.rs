@@ -331,9 +331,15 @@ fn automatic_form_keeps_a_chain_that_meets_the_tolerance() {
     assert_eq!(auto, chain);
     assert!(auto.tolerance_met && auto.notes.is_empty());
     assert_eq!(auto.network.form, NetworkForm::SeriesChain);
-    // With the rational path (default) the fewest states win: two masses on dampers (two real
-    // poles) against the chain's four states, both within the tolerance.
-    let auto = fit_ok(&data, &FitParams::default());
+    // With the rational path the fewest states win: two masses on dampers (two real poles)
+    // against the chain's four states, both within the tolerance.
+    let auto = fit_ok(
+        &data,
+        &FitParams {
+            coupled_method: CoupledMethod::Rational,
+            ..FitParams::default()
+        },
+    );
     assert!(auto.tolerance_met, "{}", auto.max_relative_error);
     assert_eq!(auto.network.substructures.len(), 1);
     assert!(
