@@ -153,39 +153,55 @@ def structure(added_mass_inf_sway: float, thickness: float = THICKNESS, hydrosta
 # --------------------------------------------------------------------------- eq. 19
 
 
-def wet_matrices(st: hc.Structure, network: hc.Network):
-    nq, n = st.to_hull.shape
-    na = network.aux_count
-    big = np.zeros((nq + na, n + na))
-    big[:nq, :n] = st.to_hull
-    big[nq:, n:] = np.eye(na)
-    mats = [big.T @ m @ big for m in network.augmented_matrices()]
-    for m, s in zip(mats, (st.mass, st.damping, st.stiffness)):
-        m[:n, :n] += s
-    return mats
-
-
 def tracked_modes(st: hc.Structure, network: hc.Network, steps: int = 200):
     """Dry eigenvalues followed to the wet ones while rho grows from 0 (continuation)."""
     dry, _ = hc.eigen_modes(st.mass, st.damping, st.stiffness)
     current = dry.copy()
     for fraction in np.geomspace(1e-4, 1.0, steps):
-        a, _ = hc.first_order(*wet_matrices(st, network.scaled(network.rho * fraction, network.g)))
+        a = hc.coupled_system(st, network.scaled(network.rho * fraction, network.g))
         eig = np.linalg.eigvals(a)
         eig = eig[eig.imag > -1e-12]
         current = np.array([eig[np.argmin(np.abs(eig - lam))] for lam in current])
     return dry, current
 
 
+def receptance(st: hc.Structure, added_mass, omega: float, coordinate: int) -> float:
+    """|p_k / f_k| for a harmonic generalized force on coordinate k, with the hull's complex
+    added mass A~(omega) (None: dry)."""
+    t = st.to_hull
+    mass = st.mass + (t.T @ added_mass @ t if added_mass is not None else 0)
+    dynamic = st.stiffness - omega * omega * mass
+    return abs(np.linalg.solve(dynamic, np.eye(len(st.mass))[:, coordinate])[coordinate])
+
+
 def breathing_receptance(st: hc.Structure, network: hc.Network | None, omegas):
     """|eta1 / f1| for a harmonic generalized force on eta1 (dry when network is None)."""
-    t = st.to_hull
-    out = []
-    for w in omegas:
-        mass = st.mass + (t.T @ network.complex_added_mass(w) @ t if network else 0)
-        dynamic = st.stiffness - w * w * mass
-        out.append(abs(np.linalg.solve(dynamic, np.eye(6)[:, 3])[3]))
-    return np.array(out)
+    return np.array([receptance(st, network.complex_added_mass(w) if network else None, w, 3) for w in omegas])
+
+
+def resonance_peak(omegas: np.ndarray, values: np.ndarray) -> tuple[float, float]:
+    """(omega, value) of the largest value, refined by a parabola through log values at the
+    three grid points around it (log-spaced grid)."""
+    i = int(np.clip(np.argmax(values), 1, len(values) - 2))
+    x, y = np.log(omegas[i - 1 : i + 2]), np.log(values[i - 1 : i + 2])
+    a, b, c = np.polyfit(x - x[1], y, 2)
+    shift = -b / (2 * a) if a < 0 else 0.0
+    return float(np.exp(x[1] + shift)), float(np.exp(c - b * b / (4 * a) if a < 0 else y[1]))
+
+
+def wet_resonances(st: hc.Structure, network: hc.Network, points: int) -> dict:
+    """Heave and breathing resonance peaks of the receptance with the panel method's own
+    A~(omega) and with the network's: independent of how the network continues off the real
+    frequency axis (the eigenvalues of a strongly damped mode do depend on it)."""
+    panel = hc.sweep_coefficients(PACK_ARGS, f"0.3:4.5:{points}", network.rho, network.g)
+    omegas = np.array([c.omega for c in panel])
+    out = {}
+    for name, k in (("heave", 1), ("eta1", 3)):
+        exact = np.array([receptance(st, c.added_mass, c.omega, k) for c in panel])
+        fitted = np.array([receptance(st, network.complex_added_mass(c.omega), c.omega, k) for c in panel])
+        (w_exact, r_exact), (w_fit, r_fit) = resonance_peak(omegas, exact), resonance_peak(omegas, fitted)
+        out[name] = {"panel_omega": w_exact, "network_omega": w_fit, "panel_peak": r_exact, "network_peak": r_fit}
+    return out
 
 
 def dry_response(st: hc.Structure, p0, h: float, steps: int) -> np.ndarray:
@@ -236,6 +252,7 @@ def run(quick: bool = False, fmu=None, plot: bool = True) -> dict:
             }
             for name, d, w in zip(MODE_NAMES, dry, wet)
         ],
+        "resonances": wet_resonances(st, network, 120 if quick else 400),
         "initial_eta1": INITIAL_ETA1,
         "duration": duration,
         "runs": [],
@@ -334,6 +351,11 @@ def report(result: dict) -> str:
         lines.append(
             f"{m['name']:<11} {m['dry_omega']:9.3f}   {m['wet_omega']:9.3f}   {m['wet_damping_ratio']:8.4f}"
             f"   {m['wet_kR']:6.2f}   {m['wet_omega'] / m['dry_omega']:.3f}"
+        )
+    for name, r in result["resonances"].items():
+        lines.append(
+            f"{name} receptance peak: panel method {r['panel_omega']:.4f} rad/s {r['panel_peak']:.4e} m/N, "
+            f"network {r['network_omega']:.4f} rad/s {r['network_peak']:.4e} m/N"
         )
     lines.append(
         f"free breathing from eta1 = {result['initial_eta1']} m over {result['duration']:.0f} s: "

@@ -153,6 +153,59 @@ def harmonic_fit(t: np.ndarray, x: np.ndarray, omega: float) -> np.ndarray:
 
 
 @dataclass
+class Substructure:
+    """A passive substructure of a network (NETWORK_FORMAT.md): unit aux masses (velocities u)
+    and unit springs (elongations e) over the hull velocities v:
+
+        e' = -R e + E_u u + E_v v,   u' = -E_u^T e - C_uu u - C_uv v,
+        F  = -E_v^T e - C_vu u - C_vv v   (the water's force on the hull, without -A_inf q'')."""
+
+    masses: int
+    spring_incidence: np.ndarray  # E = [E_u E_v], (Ns, Nm + n)
+    spring_relaxation: np.ndarray  # R, (Ns, Ns)
+    damping: np.ndarray  # C over [u; v], (Nm + n, Nm + n)
+
+    @classmethod
+    def from_xml(cls, element) -> "Substructure":
+        def matrix(tag):
+            return np.array([[float(x) for x in r.text.split()] for r in element.find(tag).findall("row")], ndmin=2)
+
+        return cls(
+            int(element.get("masses")),
+            matrix("spring_incidence"),
+            matrix("spring_relaxation"),
+            matrix("damping"),
+        )
+
+    @property
+    def states(self) -> int:
+        return self.spring_incidence.shape[0] + self.masses
+
+    def realization(self):
+        """(A, B, C_Z, D): z' = A z + B v over z = [e; u], F = -(C_Z z + D v)."""
+        nm, ns = self.masses, self.spring_incidence.shape[0]
+        e_u, e_v = self.spring_incidence[:, :nm], self.spring_incidence[:, nm:]
+        c_uu, c_uv = self.damping[:nm, :nm], self.damping[:nm, nm:]
+        c_vu, c_vv = self.damping[nm:, :nm], self.damping[nm:, nm:]
+        a = np.block([[-self.spring_relaxation, e_u], [-e_u.T, -c_uu]]) if ns + nm else np.zeros((0, 0))
+        b = np.vstack([e_v, -c_uv])
+        c = np.hstack([e_v.T, c_vu])
+        return a, b, c, c_vv
+
+    def scaled(self, r: float, s: float) -> "Substructure":
+        """Other water: R, E_u, C_uu ~ sqrt(s); E_v, C_uv ~ sqrt(r s); C_vv ~ r sqrt(s)
+        (r = rho / rho0, s = g / g0; the states are energy coordinates)."""
+        nm, gamma = self.masses, np.sqrt(s)
+        incidence = self.spring_incidence * gamma
+        incidence[:, nm:] *= np.sqrt(r)
+        damping = self.damping * gamma
+        damping[:nm, nm:] *= np.sqrt(r)
+        damping[nm:, :nm] *= np.sqrt(r)
+        damping[nm:, nm:] *= r
+        return Substructure(nm, incidence, self.spring_relaxation * gamma, damping)
+
+
+@dataclass
 class Network:
     """The equivalent network read from an FMU's resources/network.xml (SI, per metre)."""
 
@@ -162,6 +215,7 @@ class Network:
     added_mass_inf: np.ndarray
     # per branch: (direction (n,), stages [(mass, stiffness, damping), ...] from the hull out)
     branches: list[tuple[np.ndarray, list[tuple[float, float, float]]]] = field(default_factory=list)
+    substructures: list[Substructure] = field(default_factory=list)
 
     @classmethod
     def from_fmu(cls, fmu: str | os.PathLike) -> "Network":
@@ -176,25 +230,34 @@ class Network:
                 (float(s.get("mass")), float(s.get("stiffness")), float(s.get("damping"))) for s in b.findall("stage")
             ]
             branches.append((direction, stages))
-        return cls(dofs, float(root.get("rho")), float(root.get("g")), np.array(rows), branches)
+        substructures = [Substructure.from_xml(e) for e in root.findall("substructure")]
+        return cls(dofs, float(root.get("rho")), float(root.get("g")), np.array(rows), branches, substructures)
 
     def scaled(self, rho: float, g: float) -> "Network":
         """The same network in other water (NETWORK_FORMAT.md: masses ~ rho, springs ~ rho g,
-        dampers ~ rho sqrt(g))."""
+        dampers ~ rho sqrt(g); substructures as in Substructure.scaled)."""
         r, s = rho / self.rho, g / self.g
         branches = [(d, [(m * r, k * r * s, c * r * np.sqrt(s)) for m, k, c in st]) for d, st in self.branches]
-        return Network(self.dofs, rho, g, self.added_mass_inf * r, branches)
+        subs = [sub.scaled(r, s) for sub in self.substructures]
+        return Network(self.dofs, rho, g, self.added_mass_inf * r, branches, subs)
 
     @property
     def aux_count(self) -> int:
+        """Aux masses of the branches (the second-order part of augmented_matrices)."""
         return sum(len(st) for _, st in self.branches)
 
+    @property
+    def substructure_states(self) -> int:
+        return sum(sub.states for sub in self.substructures)
+
     def damping_direct(self) -> np.ndarray:
-        """Sum over branches of c1 d d^T (the FMU's damping_direct)."""
-        return sum((st[0][2] * np.outer(d, d) for d, st in self.branches), np.zeros_like(self.added_mass_inf))
+        """Sum over branches of c1 d d^T plus the substructures' C_vv (the FMU's damping_direct)."""
+        out = sum((st[0][2] * np.outer(d, d) for d, st in self.branches), np.zeros_like(self.added_mass_inf))
+        return out + sum((sub.realization()[3] for sub in self.substructures), np.zeros_like(out))
 
     def augmented_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Seed eq. 19: M, C, K over [q; aux] (hull block of M = A_inf, no body mass).
+        """Seed eq. 19: M, C, K over [q; aux] (hull block of M = A_inf, no body mass), for the
+        branches; the substructures are first-order states (coupled_system).
 
         Spring j's elongation is e_j = x_j - d^T q (first stage) or x_j - x_(j-1)."""
         n, na = len(self.dofs), self.aux_count
@@ -228,11 +291,16 @@ class Network:
                 z = k + c * s
                 g = big_m * z / (z + s * s * big_m)
             out = out + np.outer(d, d) * g
+        for sub in self.substructures:
+            a, b, c, d = sub.realization()
+            impedance = c @ np.linalg.solve(s * np.eye(len(a)) - a, b) + d
+            out = out + impedance / s
         return out
 
     def aux_at_rest(self, q0: np.ndarray) -> np.ndarray:
-        """Auxiliary positions with every spring unstretched for hull position q0."""
-        return np.concatenate([np.full(len(st), d @ q0) for d, st in self.branches])
+        """Branch aux positions with every spring unstretched for hull position q0 (the
+        substructures' states are zero at rest for any q0)."""
+        return np.concatenate([np.full(len(st), d @ q0) for d, st in self.branches] + [np.zeros(0)])
 
 
 # --------------------------------------------------------------------------- linear algebra
@@ -291,11 +359,12 @@ class Structure:
     to_hull: np.ndarray  # T, (n_q, n_p)
 
 
-def monolithic(structure: Structure, network: Network, p0, h: float, steps: int) -> np.ndarray:
-    """Seed eq. 19 with the structure: p(t_n), n = 0..steps, t_n = n h; starts at rest at p0."""
+def coupled_system(structure: Structure, network: Network) -> np.ndarray:
+    """Seed eq. 19 with the structure, as y' = A y over y = [p; x; p'; x'; z]: structure
+    coordinates p, branch aux positions x, substructure states z. Returns A."""
     t = structure.to_hull
     nq, np_ = t.shape
-    na = network.aux_count
+    na, nz = network.aux_count, network.substructure_states
     mass, damping, stiffness = network.augmented_matrices()
     big_t = np.zeros((nq + na, np_ + na))
     big_t[:nq, :np_] = t
@@ -303,10 +372,40 @@ def monolithic(structure: Structure, network: Network, p0, h: float, steps: int)
     mats = [big_t.T @ m @ big_t for m in (mass, damping, stiffness)]
     for m, s in zip(mats, (structure.mass, structure.damping, structure.stiffness)):
         m[:np_, :np_] += s
-    a, _ = first_order(*mats)
-    phi = expm(a * h)
+    mass, damping, stiffness = mats
+    n2 = np_ + na
+    # Substructures: F = -(C_Z z + D v), z' = A_z z + B_z v, v = T p'.
+    coupling = np.zeros((n2, nz))  # generalized force per z (before the minus sign)
+    a_z = np.zeros((nz, nz))
+    b_z = np.zeros((nz, n2))
+    row = 0
+    for sub in network.substructures:
+        a, b, c, d = sub.realization()
+        k = len(a)
+        damping[:np_, :np_] += t.T @ d @ t
+        coupling[:np_, row : row + k] = t.T @ c
+        a_z[row : row + k, row : row + k] = a
+        b_z[row : row + k, :np_] = b @ t
+        row += k
+    inv = np.linalg.inv(mass)
+    out = np.zeros((2 * n2 + nz, 2 * n2 + nz))
+    out[:n2, n2 : 2 * n2] = np.eye(n2)
+    out[n2 : 2 * n2, :n2] = -inv @ stiffness
+    out[n2 : 2 * n2, n2 : 2 * n2] = -inv @ damping
+    out[n2 : 2 * n2, 2 * n2 :] = -inv @ coupling
+    out[2 * n2 :, n2 : 2 * n2] = b_z
+    out[2 * n2 :, 2 * n2 :] = a_z
+    return out
+
+
+def monolithic(structure: Structure, network: Network, p0, h: float, steps: int) -> np.ndarray:
+    """Seed eq. 19 with the structure: p(t_n), n = 0..steps, t_n = n h; starts at rest at p0."""
+    t = structure.to_hull
+    np_ = t.shape[1]
+    na, nz = network.aux_count, network.substructure_states
+    phi = expm(coupled_system(structure, network) * h)
     p0 = np.asarray(p0, dtype=float)
-    y = np.concatenate([p0, network.aux_at_rest(t @ p0), np.zeros(np_ + na)])
+    y = np.concatenate([p0, network.aux_at_rest(t @ p0), np.zeros(np_ + na + nz)])
     out = np.empty((steps + 1, np_))
     out[0] = p0
     for n in range(steps):

@@ -60,13 +60,23 @@ def run(quick: bool = False, fmu=None, plot: bool = True) -> dict:
     assert np.allclose(damping_direct, network.damping_direct(), rtol=1e-12)
 
     mass, spring = structure.mass[0, 0], structure.stiffness[0, 0]
-    aug = network.augmented_matrices()
-    mono_mats = [m.copy() for m in aug]
-    mono_mats[0][0, 0] += mass
-    mono_mats[2][0, 0] += spring
-    lam, vec = hc.eigen_modes(*mono_mats)
-    # the body's mode: the eigenvector with the largest hull share of kinetic energy
-    share = [abs(v[0]) ** 2 * (mass + added_mass_inf[0, 0]) / abs(v.conj() @ mono_mats[0] @ v) for v in vec.T]
+    # The body's mode: of the coupled system's eigenvectors (Im > 0), the one whose hull
+    # kinetic energy (m + A_inf) |x'|^2 is the largest share of its energy.
+    a = hc.coupled_system(structure, network)
+    lam, vec = np.linalg.eig(a)
+    n2 = 1 + network.aux_count
+    m_aug, _, k_aug = network.augmented_matrices()
+    m_aug[0, 0] += mass
+    k_aug[0, 0] += spring
+    keep = lam.imag > 1e-9
+    lam, vec = lam[keep], vec[:, keep]
+
+    def energy_share(v):
+        x, xdot, z = v[:n2], v[n2 : 2 * n2], v[2 * n2 :]
+        energy = abs(x.conj() @ k_aug @ x) + abs(xdot.conj() @ m_aug @ xdot) + np.vdot(z, z).real
+        return abs(xdot[0]) ** 2 * (mass + added_mass_inf[0, 0]) / energy
+
+    share = [energy_share(v) for v in vec.T]
     body_mode = lam[int(np.argmax(share))]
     result = {
         "mass": mass,

@@ -205,9 +205,9 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
          chains (series chain for one DOF; for 9 DOFs groups of chains, the order counted per \
          invariant block of the data, two for the mirror-symmetric semicircle) and the rational \
          path (passive vector fitting per invariant block realized as one mechanical \
-         substructure; order = poles per block, a pair counted twice; `CoupledMethod::Rational`, \
-         opt-in until the co-simulation examples read substructures). The default automatic \
-         fit of the 9 DOFs (chains) meets 1 % with {} states. Error: the fit's largest \
+         substructure; order = poles per block, a pair counted twice; the default, \
+         `CoupledMethod::Rational`; the chains are `CoupledMethod::Chains`). The default \
+         automatic fit of the 9 DOFs meets 1 % with {} states. Error: the fit's largest \
          `|dA_ij| / sqrt(s_i s_j)` in the band. Fit time: one run, wall clock. Step cost: \
          median wall time of one set-velocities + step + get-forces through the Rust model (no \
          C ABI), 5 batches of 20 000 steps; `cargo bench --bench step` measures the C ABI path \

@@ -101,7 +101,7 @@
 //!   rounding (singular values 1e-15 against 7e-3 of the largest for the first genuine
 //!   coupling); a DOF that moves no water (its roll) lies outside the reduced subspace and
 //!   gets no branch.
-//! * Rational path (coupled, [`CoupledMethod::Rational`], opt-in for now): passive vector
+//! * Rational path (coupled, [`CoupledMethod::Rational`], the default): passive vector
 //!   fitting of every invariant block ([`vector_fitting`]), with poles kept within a factor
 //!   30 of the band, realized as one mechanical substructure ([`synthesis`]); the order is the
 //!   number of poles per block, the smallest that meets the tolerance wins. On the

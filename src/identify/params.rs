@@ -38,9 +38,7 @@ pub struct FitParams {
     /// `Some(2)` the dictionary and two-stage variable projection; `Some(3 | 4)` variable
     /// projection with that many stages.
     pub coupled_stages: Option<usize>,
-    /// How the coupled form is fitted; default [`CoupledMethod::Chains`] until the
-    /// co-simulation examples' monolithic references (Python, `examples/cosim`) read
-    /// substructures; then [`CoupledMethod::Rational`] becomes the default.
+    /// How the coupled form is fitted; default [`CoupledMethod::Rational`] (fewest states).
     pub coupled_method: CoupledMethod,
 }
 
@@ -51,8 +49,8 @@ pub enum CoupledMethod {
     /// (fewest states). Falls back to [`CoupledMethod::Chains`] if no order gives
     /// a passive network.
     Rational,
-    /// Groups of branch chains (the default for now); also used whenever `coupled_stages` is
-    /// set.
+    /// Groups of branch chains (networks of branches only, readable by tools that know no
+    /// substructures); also used whenever `coupled_stages` is set.
     Chains,
 }
 
@@ -68,7 +66,7 @@ impl Default for FitParams {
             restarts: 12,
             seed: 1,
             coupled_stages: None,
-            coupled_method: CoupledMethod::Chains,
+            coupled_method: CoupledMethod::Rational,
         }
     }
 }

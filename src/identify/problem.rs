@@ -61,7 +61,7 @@ impl Problem {
         // Symmetric PSD A_inf.
         let a = &data.added_mass_inf;
         let sym = (a + a.transpose()) * 0.5;
-        let eigen = sym.clone().symmetric_eigen();
+        let eigen = crate::numerics::symmetric_eigen(&sym);
         let largest = eigen.eigenvalues.amax();
         let smallest = eigen.eigenvalues.min();
         if smallest < -1e-3 * largest {

@@ -95,7 +95,7 @@ fn reciprocal_realization(
     let mut blocks: Vec<(DMatrix<f64>, DMatrix<f64>, DMatrix<f64>)> = Vec::new();
     for (p, r) in poles.iter().zip(residues) {
         if p.im == 0.0 {
-            let eigen = r.map(|z| z.re).symmetric_eigen();
+            let eigen = crate::numerics::symmetric_eigen(&r.map(|z| z.re));
             let kept: Vec<usize> = (0..n)
                 .filter(|&i| eigen.eigenvalues[i].abs() > RANK_TOLERANCE * largest)
                 .collect();
@@ -300,7 +300,7 @@ pub fn synthesize(fit: &RationalFit) -> Result<(Substructure, SynthesisReport), 
             .try_inverse()
             .ok_or_else(|| failure("the storage factor is singular".into()))?;
         let sigma0 = &l_inv * t * l_inv.transpose();
-        let eigen = ((&sigma0 + sigma0.transpose()) * 0.5).symmetric_eigen();
+        let eigen = crate::numerics::symmetric_eigen(&sigma0);
         if let Some(bad) = eigen
             .eigenvalues
             .iter()

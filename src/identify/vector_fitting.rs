@@ -598,7 +598,7 @@ pub fn passive_block_vector_fit(
         let (re, im) = (t.map(|z| z.re), t.map(|z| z.im));
         gram += &re * re.transpose() + &im * im.transpose();
     }
-    let eigen = gram.symmetric_eigen();
+    let eigen = crate::numerics::symmetric_eigen(&gram);
     let largest = eigen.eigenvalues.max();
     let kept: Vec<usize> = (0..n)
         .filter(|&i| eigen.eigenvalues[i] > 1e-12 * largest)
@@ -749,7 +749,7 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
             .map(|&w| {
                 let k = model.evaluate(w) * Complex64::new(0.0, w);
                 let re = (&k + k.adjoint()).map(|z| z.re) * 0.5;
-                let eig = re.symmetric_eigen();
+                let eig = crate::numerics::symmetric_eigen(&re);
                 let m = eig.eigenvalues.imin();
                 (eig.eigenvalues[m], eig.eigenvectors.column(m).into_owned())
             })
@@ -790,7 +790,7 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
                 .map(|col| kinf[col] * x[e * basis_size + col])
                 .sum::<f64>()
         });
-        let eig = k_inf.symmetric_eigen();
+        let eig = crate::numerics::symmetric_eigen(&k_inf);
         let m = eig.eigenvalues.imin();
         if eig.eigenvalues[m] < floor {
             let v = eig.eigenvectors.column(m);

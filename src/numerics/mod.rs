@@ -11,7 +11,7 @@ mod psd;
 mod rng;
 mod sign;
 
-pub use eigenvalues::eigenvalues;
+pub use eigenvalues::{eigenvalues, symmetric_eigen};
 pub use inequality_least_squares::triangular_inequality_least_squares;
 pub use least_squares::{levenberg_marquardt, LeastSquares};
 pub use nnls::nnls;

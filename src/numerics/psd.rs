@@ -16,7 +16,7 @@ pub fn project_psd(m: &DMatrix<f64>) -> DMatrix<f64> {
     if sym.is_empty() || sym.clone().cholesky().is_some() {
         return sym;
     }
-    let eigen = sym.symmetric_eigen();
+    let eigen = crate::numerics::symmetric_eigen(&sym);
     let clipped = eigen.eigenvalues.map(|l| l.max(0.0));
     let v = &eigen.eigenvectors;
     let out = v * DMatrix::from_diagonal(&clipped) * v.transpose();

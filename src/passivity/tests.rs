@@ -3,6 +3,7 @@ use crate::network::Network;
 
 const SEED: &str = include_str!("../../examples/networks/seed_2dof.xml");
 const NINE_DOF: &str = include_str!("../../examples/networks/semicircle_9dof.xml");
+const NINE_DOF_CHAINS: &str = include_str!("../../examples/networks/semicircle_9dof_chains.xml");
 const TWO_DOF: &str = include_str!("../../examples/networks/two-dof-sway-heave.xml");
 
 fn system(text: &str) -> StateSpace {
@@ -21,7 +22,12 @@ fn smallest(system: &StateSpace, omega: f64) -> f64 {
 
 #[test]
 fn fitted_networks_are_passive_at_every_frequency() {
-    for (name, text) in [("seed", SEED), ("9 DOF", NINE_DOF), ("2 DOF", TWO_DOF)] {
+    for (name, text) in [
+        ("seed", SEED),
+        ("9 DOF", NINE_DOF),
+        ("9 DOF chains", NINE_DOF_CHAINS),
+        ("2 DOF", TWO_DOF),
+    ] {
         let s = system(text);
         let report = check(&s, 1e-9);
         assert!(report.stable, "{name}");

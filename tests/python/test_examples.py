@@ -40,12 +40,13 @@ def example_fmus(fmu_pack_binary, tmp_path_factory):
     return paths
 
 
-def _quick(script, fmu, tmp_path):
+def _quick(script, fmu, tmp_path, fmu_pack_binary):
     result = tmp_path / "result.json"
     subprocess.run(
         [sys.executable, str(EXAMPLES / script), "--quick", "--fmu", str(fmu), "--json", str(result)],
         check=True,
         capture_output=True,
+        env={**os.environ, "HYDROFMU_FMU_PACK": str(fmu_pack_binary)},
     )
     return json.loads(result.read_text())
 
@@ -54,8 +55,8 @@ def _runs(result):
     return {(r["scheme"], r["step"]): r for r in result["runs"]}
 
 
-def test_rigid_sway_coupling_errors(example_fmus, tmp_path):
-    result = _quick("rigid_sway.py", example_fmus["SemicircleSway"], tmp_path)
+def test_rigid_sway_coupling_errors(example_fmus, tmp_path, fmu_pack_binary):
+    result = _quick("rigid_sway.py", example_fmus["SemicircleSway"], tmp_path, fmu_pack_binary)
     runs = _runs(result)
     # Same scheme, same arithmetic; only the host of the FMU differs: rounding only.
     for r in runs.values():
@@ -76,34 +77,46 @@ def test_rigid_sway_coupling_errors(example_fmus, tmp_path):
     assert 0.01 < result["wet_damping_ratio"] < 0.1
 
 
-def test_elastic_hull_coupling_errors_and_wet_modes(example_fmus, tmp_path):
-    result = _quick("elastic_hull.py", example_fmus["Semicircle9"], tmp_path)
+def test_elastic_hull_coupling_errors_and_wet_modes(example_fmus, tmp_path, fmu_pack_binary):
+    result = _quick("elastic_hull.py", example_fmus["Semicircle9"], tmp_path, fmu_pack_binary)
     runs = _runs(result)
-    # Stated (12 s run): eta1 error 0.14 % / 0.035 % (ramp), 4.5 % / 2.2 % (zoh) of eta1(0)
+    # Stated (12 s run): eta1 error 0.16 % / 0.040 % (ramp), 4.9 % / 2.4 % (zoh) of eta1(0)
     # at h = 0.02 / 0.01 s; the quick run is its first 4 s.
-    assert runs[("ramp", 0.02)]["max_error_eta1_relative"] < 0.0016
-    assert runs[("ramp", 0.01)]["max_error_eta1_relative"] < 0.0004
+    assert runs[("ramp", 0.02)]["max_error_eta1_relative"] < 0.0017
+    assert runs[("ramp", 0.01)]["max_error_eta1_relative"] < 0.00042
     assert runs[("zoh", 0.02)]["max_error_eta1_relative"] < 0.050
     assert runs[("zoh", 0.01)]["max_error_eta1_relative"] < 0.025
     # Every coordinate (heave, sway, ... in metres) is as close as the breathing mode.
     for r in runs.values():
         assert r["max_error_any_m"] <= r["max_error_eta1_m"] * 1.0001
     assert runs[("ramp", 0.02)]["libcosim_minus_fmpy_m"] < 1e-12
-    # The breathing start is symmetric: sway, roll and the antisymmetric eta2 stay at rest up to
-    # the fit's asymmetry (~1e-5 of the symmetric response of ~1e-2 m).
+    # The breathing start is symmetric: sway, roll and the antisymmetric eta2 stay at rest (the
+    # fit is split into the data's symmetric and antisymmetric blocks, exact to rounding: 3e-13 m
+    # against a symmetric response of 1e-2 m).
     wet = result["max_abs_wet_m"]
     assert wet["heave"] > 5e-3 and wet["eta3"] > 1e-4
-    assert max(wet["sway"], wet["roll"], wet["eta2"]) < 1e-6
+    assert max(wet["sway"], wet["roll"], wet["eta2"]) < 1e-9
     modes = {m["name"]: m for m in result["modes"]}
     # Roll of a circular section about its centre moves no water (tangential motion).
     assert abs(modes["roll"]["wet_omega"] / modes["roll"]["dry_omega"] - 1) < 0.005
-    # The water lowers every other frequency; stated values (docs/COSIMULATION.md) to 0.5 %.
-    stated = {"sway": 1.243, "heave": 3.126, "elastic 1": 5.566, "elastic 2": 23.97, "elastic 3": 76.71}
+    # The water lowers every other frequency; stated values (docs/COSIMULATION.md) to 0.5 %. The
+    # heave mode is damped by 14 % of critical: its eigenvalue depends on how the fitted network
+    # continues off the real frequency axis, so the receptance below is its physical check.
+    stated = {"sway": 1.243, "heave": 2.915, "elastic 1": 5.552, "elastic 2": 23.92, "elastic 3": 76.71}
     for name, omega in stated.items():
         assert modes[name]["wet_omega"] < modes[name]["dry_omega"]
         assert modes[name]["wet_omega"] == pytest.approx(omega, rel=0.005), name
-    # The breathing mode radiates waves: its damping ratio is the stated 4.8 %.
-    assert modes["elastic 1"]["wet_damping_ratio"] == pytest.approx(0.0477, abs=0.002)
+    # The breathing mode radiates waves: its damping ratio is the stated 4.9 %.
+    assert modes["elastic 1"]["wet_damping_ratio"] == pytest.approx(0.0489, abs=0.002)
+    # Resonance peaks of the receptance with the network's A~(omega) against the panel method's
+    # own: an added-mass error delta (relative to the modal mass; the fit's is <= 1 %) moves a
+    # peak's frequency by delta / 2 and its height by up to delta / (2 zeta) (zeta: damping
+    # ratio, 0.15 for heave, 0.05 for the breathing mode): 0.5 %, 3.3 % and 10 %.
+    peaks = result["resonances"]
+    for name, height in (("heave", 0.033), ("eta1", 0.10)):
+        p = peaks[name]
+        assert p["network_omega"] == pytest.approx(p["panel_omega"], rel=0.005), name
+        assert p["network_peak"] == pytest.approx(p["panel_peak"], rel=height), name
 
 
 def test_beam_model_reproduces_rigid_motions_and_the_half_ring_spreading_stiffness():

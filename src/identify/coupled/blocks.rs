@@ -39,7 +39,7 @@ impl Problem {
             let (re, im) = (t.map(|z| z.re), t.map(|z| z.im));
             gram += &re * re.transpose() + &im * im.transpose();
         }
-        let eigen = gram.symmetric_eigen();
+        let eigen = crate::numerics::symmetric_eigen(&gram);
         let largest = eigen.eigenvalues.amax();
         let mut keep: Vec<usize> = (0..n)
             .filter(|&i| eigen.eigenvalues[i] > REDUCTION_TOLERANCE * largest)
@@ -221,7 +221,7 @@ pub(in crate::identify) fn invariant_blocks(
     let generic = null.iter().fold(DMatrix::zeros(r, r), |acc, x| {
         acc + x * (1.0 + rng.uniform())
     });
-    let eigen = generic.symmetric_eigen();
+    let eigen = crate::numerics::symmetric_eigen(&generic);
     let mut order: Vec<usize> = (0..r).collect();
     order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
     let spread = eigen.eigenvalues.max() - eigen.eigenvalues.min();

@@ -31,7 +31,7 @@ impl Problem {
                 .iter()
                 .map(|&v| groups.shape(p, Complex64::new(0.0, v)).norm())
                 .fold(0.0, f64::max);
-            let eigen = w.clone().symmetric_eigen();
+            let eigen = crate::numerics::symmetric_eigen(w);
             for r in 0..w.nrows() {
                 let lambda = eigen.eigenvalues[r];
                 if lambda.is_nan() || lambda * peak <= drop_below {

@@ -91,7 +91,7 @@ pub(super) fn refine_coupled(
     let mut factors: Vec<DMatrix<f64>> = weights
         .iter()
         .map(|w| {
-            let eigen = w.clone().symmetric_eigen();
+            let eigen = crate::numerics::symmetric_eigen(w);
             let keep: Vec<usize> = (0..n)
                 .filter(|&r| eigen.eigenvalues[r] > 1e-8 * largest)
                 .collect();
