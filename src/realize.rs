@@ -84,12 +84,39 @@ pub struct StateSpace {
     /// substructure. `A` couples no two of these groups, and column (row) r of `b_branch`
     /// (`c_branch`) is zero outside the group whose `branch_inputs` hold r.
     pub branch_states: Vec<Vec<usize>>,
-    /// The inputs (rows of `branch_directions`) of each group: one per branch, the n hull
-    /// velocities for a substructure.
+    /// The inputs (rows of `branch_directions`) of each group: one per branch; for a
+    /// substructure, the hull velocities along an orthonormal basis of the motions it acts on.
     pub branch_inputs: Vec<std::ops::Range<usize>>,
     /// The substructures, each with its first state and the factor from the state to its
     /// energy coordinates (`sqrt(rho)`).
     pub substructures: Vec<(usize, crate::network::Substructure, f64)>,
+}
+
+/// Singular values of a substructure's coupling below this fraction of the largest are
+/// directions of hull motion it does not act on.
+const SUBSTRUCTURE_SPAN: f64 = 1e-12;
+
+/// An orthonormal basis (n x k) of the hull motions a substructure acts on: the column space
+/// of `[B^T C]` (equal spaces for a reciprocal substructure). Its inputs are the k velocities
+/// `Q^T v` and its force `Q f`, so a step costs `m (m + k)`, not `m (m + n)`; the columns
+/// left out carry below [`SUBSTRUCTURE_SPAN`] of the coupling. For a mirror-symmetric hull,
+/// each of the rational fit's parts acts on the symmetric or the antisymmetric motions only.
+fn acted_on(b: &DMatrix<f64>, c: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = c.nrows();
+    let mut coupling = DMatrix::zeros(n, b.nrows() + c.ncols());
+    coupling
+        .view_mut((0, 0), (n, b.nrows()))
+        .copy_from(&b.transpose());
+    coupling
+        .view_mut((0, b.nrows()), (n, c.ncols()))
+        .copy_from(c);
+    let svd = coupling.svd(true, false);
+    let largest = svd.singular_values.amax();
+    let u = svd.u.expect("the SVD was asked for U");
+    let kept: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&i| largest > 0.0 && svd.singular_values[i] > SUBSTRUCTURE_SPAN * largest)
+        .collect();
+    DMatrix::from_fn(n, kept.len(), |i, c| u[(i, kept[c])])
 }
 
 /// `C (sI - A)^-1 B + D` of any real state-space model (NaN entries when `sI - A` is
@@ -305,9 +332,24 @@ impl Network {
             .view_mut((0, na), (r, na))
             .copy_from(&(-(select.transpose() * &c_diag) * &e_x));
         let mut branch_inputs: Vec<std::ops::Range<usize>> = (0..r).map(|j| j..j + 1).collect();
-        // Substructures: their states after the branches', their inputs the hull velocities.
+        // Substructures: their states after the branches', their inputs the hull velocities
+        // in the subspace the substructure acts on.
         let extra: usize = self.substructures.iter().map(|sub| sub.state_count()).sum();
-        let (total, inputs) = (2 * na + extra, r + n * self.substructures.len());
+        let root_rho = self.rho.sqrt();
+        let realizations: Vec<_> = self
+            .substructures
+            .iter()
+            .map(|sub| {
+                let z = sub.impedance_realization();
+                let (b_sub, c_sub) = (&z.b / root_rho, -&z.c * root_rho);
+                let span = acted_on(&b_sub, &c_sub);
+                (z, b_sub, c_sub, span)
+            })
+            .collect();
+        let (total, inputs) = (
+            2 * na + extra,
+            r + realizations.iter().map(|x| x.3.ncols()).sum::<usize>(),
+        );
         let grow = |m: &DMatrix<f64>, rows: usize, cols: usize| {
             let mut out = DMatrix::zeros(rows, cols);
             out.view_mut((0, 0), (m.nrows(), m.ncols())).copy_from(m);
@@ -323,28 +365,29 @@ impl Network {
         let mut substructures = Vec::with_capacity(self.substructures.len());
         let (mut first, mut input) = (2 * na, r);
         // State = energy coordinates / sqrt(rho) (module docs).
-        let root_rho = self.rho.sqrt();
-        for sub in &self.substructures {
-            let m = sub.state_count();
-            let z = sub.impedance_realization();
-            let (b_sub, c_sub) = (&z.b / root_rho, -&z.c * root_rho);
+        for (sub, (z, b_sub, c_sub, span)) in self.substructures.iter().zip(&realizations) {
+            let (m, k) = (sub.state_count(), span.ncols());
             a.view_mut((first, first), (m, m)).copy_from(&z.a);
-            b.view_mut((first, 0), (m, n)).copy_from(&b_sub);
-            c.view_mut((0, first), (n, m)).copy_from(&c_sub);
+            b.view_mut((first, 0), (m, n)).copy_from(b_sub);
+            c.view_mut((0, first), (n, m)).copy_from(c_sub);
             d -= &z.d;
             energy_weight
                 .view_mut((first, first), (m, m))
                 .copy_from(&DMatrix::from_diagonal_element(m, m, self.rho));
             branch_directions
-                .view_mut((input, 0), (n, n))
-                .fill_with_identity();
-            b_branch.view_mut((first, input), (m, n)).copy_from(&b_sub);
-            c_branch.view_mut((input, first), (n, m)).copy_from(&c_sub);
+                .view_mut((input, 0), (k, n))
+                .copy_from(&span.transpose());
+            b_branch
+                .view_mut((first, input), (m, k))
+                .copy_from(&(b_sub * span));
+            c_branch
+                .view_mut((input, first), (k, m))
+                .copy_from(&(span.transpose() * c_sub));
             branch_states.push((first..first + m).collect());
-            branch_inputs.push(input..input + n);
+            branch_inputs.push(input..input + k);
             substructures.push((first, sub.clone(), root_rho));
             first += m;
-            input += n;
+            input += k;
         }
         let d = (&d + d.transpose()) * 0.5;
         Ok(StateSpace {

@@ -58,16 +58,71 @@ fn candidate(
             p.norm()
         ));
     }
-    let (substructure, _) = synthesize(&fit).map_err(|e| e.to_string())?;
-    let network = Network::from_substructure(
+    let substructures = independent_parts(&fit)
+        .iter()
+        .map(|part| synthesize(part).map(|(sub, _)| sub))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let network = Network::from_substructures(
         problem.dof_names.clone(),
         problem.added_mass_inf.clone(),
-        substructure,
+        substructures,
         problem.rho,
         problem.g,
     );
     network.validate().map_err(|e| e.to_string())?;
     Ok((problem.max_relative_error(&network), network, fit))
+}
+
+/// Residues whose column spaces overlap less than this (relative) act on orthogonal motions.
+const ORTHOGONAL_RESIDUES: f64 = 1e-9;
+
+/// The fit split into parts whose residues act on mutually orthogonal subspaces of the DOFs
+/// (for a mirror-symmetric hull: its symmetric and antisymmetric motions), the connected
+/// groups of poles with `|R_i^H R_j| > ORTHOGONAL_RESIDUES |R_i| |R_j|`. Each part becomes its
+/// own substructure: the sum is the same transfer function, and a step costs the parts' sizes
+/// squared instead of the whole's.
+fn independent_parts(fit: &RationalFit) -> Vec<RationalFit> {
+    let count = fit.poles.len();
+    let norms: Vec<f64> = fit.residues.iter().map(|r| r.norm()).collect();
+    let mut group: Vec<usize> = (0..count).collect();
+    let root = |group: &[usize], mut i: usize| {
+        while group[i] != i {
+            i = group[i];
+        }
+        i
+    };
+    for i in 0..count {
+        for j in i + 1..count {
+            let overlap = (fit.residues[i].adjoint() * &fit.residues[j]).norm();
+            if overlap > ORTHOGONAL_RESIDUES * norms[i] * norms[j] {
+                let (a, b) = (root(&group, i), root(&group, j));
+                group[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    let mut parts: Vec<(usize, RationalFit)> = Vec::new();
+    for i in 0..count {
+        let r = root(&group, i);
+        let at = match parts.iter().position(|(k, _)| *k == r) {
+            Some(at) => at,
+            None => {
+                parts.push((
+                    r,
+                    RationalFit {
+                        poles: Vec::new(),
+                        residues: Vec::new(),
+                        dof_scales: fit.dof_scales.clone(),
+                        max_error: fit.max_error,
+                    },
+                ));
+                parts.len() - 1
+            }
+        };
+        parts[at].1.poles.push(fit.poles[i]);
+        parts[at].1.residues.push(fit.residues[i].clone());
+    }
+    parts.into_iter().map(|(_, part)| part).collect()
 }
 
 /// Fits the coupled form by the rational path: `(order, network, vector fitting iterations)`.
@@ -128,5 +183,41 @@ mod tests {
             }
         }
         assert_eq!(layouts(6), vec![(3, 0), (2, 2)]);
+    }
+
+    #[test]
+    fn residues_on_orthogonal_motions_make_separate_parts() {
+        use nalgebra::{DMatrix, DVector};
+        use num_complex::Complex64;
+        // Poles 0 and 2 act on (1, 1, 0), pole 1 on (1, -1, 0) and pole 3 on (0, 0, 1) and
+        // (1, -1, 0): parts {0, 2} and {1, 3}.
+        let outer = |v: [f64; 3], w: [f64; 3], c: f64| {
+            DMatrix::from_fn(3, 3, |i, j| {
+                Complex64::new(c * (v[i] * v[j] + w[i] * w[j]), 0.5 * c * v[i] * v[j])
+            })
+        };
+        let fit = RationalFit {
+            poles: [(-1.0, 2.0), (-0.5, 0.0), (-2.0, 1.0), (-3.0, 0.0)]
+                .iter()
+                .map(|&(re, im)| Complex64::new(re, im))
+                .collect(),
+            residues: vec![
+                outer([1.0, 1.0, 0.0], [0.0; 3], 1.0),
+                outer([1.0, -1.0, 0.0], [0.0; 3], 2.0),
+                outer([1.0, 1.0, 0.0], [0.0; 3], 3.0),
+                outer([0.0, 0.0, 1.0], [1.0, -1.0, 0.0], 4.0),
+            ],
+            dof_scales: DVector::from_element(3, 1.0),
+            max_error: 0.0,
+        };
+        let parts = independent_parts(&fit);
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0].poles, vec![fit.poles[0], fit.poles[2]]);
+        assert_eq!(parts[1].poles, vec![fit.poles[1], fit.poles[3]]);
+        // The parts sum to the fit at any frequency.
+        for omega in [0.1, 1.0, 7.0] {
+            let sum = parts[0].evaluate(omega) + parts[1].evaluate(omega);
+            assert!((sum - fit.evaluate(omega)).norm() < 1e-12);
+        }
     }
 }

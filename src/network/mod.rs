@@ -196,11 +196,11 @@ pub struct Network {
 }
 
 impl Network {
-    /// A coupled network of `A_inf` and one substructure (what the rational fit gives).
-    pub fn from_substructure(
+    /// A coupled network of `A_inf` and substructures (what the rational fit gives).
+    pub fn from_substructures(
         dof_names: Vec<String>,
         added_mass_inf: DMatrix<f64>,
-        substructure: Substructure,
+        substructures: Vec<Substructure>,
         rho: f64,
         g: f64,
     ) -> Network {
@@ -208,7 +208,7 @@ impl Network {
             dof_names,
             added_mass_inf,
             branches: Vec::new(),
-            substructures: vec![substructure],
+            substructures,
             rho,
             g,
             form: NetworkForm::Coupled,

@@ -44,10 +44,10 @@ fn assert_synthesis(truth: &Network, omega: &[f64], pairs: usize, real: usize, e
     // 1e-8 of the impedance's scale, seen as delta / omega in the added mass, which at 0.3
     // times the slowest pole is about 1e-6 of the entry scales (measured 1.4e-6 at most).
     assert!(report.deviation < 1e-5, "{report:?}");
-    let net = Network::from_substructure(
+    let net = Network::from_substructures(
         truth.dof_names.clone(),
         truth.added_mass_inf.clone(),
-        sub,
+        vec![sub],
         truth.rho,
         truth.g,
     );
