@@ -1,8 +1,9 @@
 //! One co-simulation step of the default 9-DOF semicircle network through the C ABI (set 9
 //! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core), in calm water and in a
 //! JONSWAP sea of the default 64 components (Hs 2 m, Tp 8 s; a synthetic excitation table in
-//! the resources; target <= 2 x the calm step). The same radiation force by direct
-//! convolution: `cargo bench -p fmu-pack --bench convolution`.
+//! the resources; target <= 2 x the calm step); and in calm water the branch-chain network of
+//! the same data (`CoupledMethod::Chains`), for the ratio in one run. The same radiation force
+//! by direct convolution: `cargo bench -p fmu-pack --bench convolution`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use hydrofmu::fmi2::*;
@@ -20,13 +21,25 @@ mod common;
 /// examples/networks/semicircle_9dof.xml`).
 const NETWORK: &str = include_str!("../examples/networks/semicircle_9dof.xml");
 
+/// The same data fitted by branch chains (56 states, 0.98 %).
+const CHAINS: &str = include_str!("../examples/networks/semicircle_9dof_chains.xml");
+
 /// `wave.kind` 2: JONSWAP.
 const JONSWAP: i32 = 2;
 
 fn step(c: &mut Criterion) {
-    let dir = std::env::temp_dir().join(format!("hydrofmu-bench-{}", std::process::id()));
+    bench_network(c, NETWORK, "", &["calm water", "JONSWAP, 64 components"]);
+    bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
+}
+
+fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
+    let dir = std::env::temp_dir().join(format!(
+        "hydrofmu-bench-{}-{}",
+        std::process::id(),
+        label.len()
+    ));
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join(Resources::NETWORK_FILE), NETWORK).unwrap();
+    std::fs::write(dir.join(Resources::NETWORK_FILE), text).unwrap();
     std::fs::write(
         dir.join(Resources::OPTIONS_FILE),
         Resources::options_text(false),
@@ -46,12 +59,12 @@ fn step(c: &mut Criterion) {
         stepFinished: None,
         componentEnvironment: std::ptr::null_mut::<c_void>(),
     };
-    let network = Network::from_xml_str(NETWORK, "semicircle_9dof.xml").unwrap();
+    let network = Network::from_xml_str(text, "network.xml").unwrap();
     let states = network.state_space().unwrap().state_count();
     let n = network.dof_count() as u32;
     let velocity: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + i).collect();
     let force: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + n + i).collect();
-    for sea in ["calm water", "JONSWAP, 64 components"] {
+    for &sea in seas {
         unsafe {
             let comp = fmi2Instantiate(
                 c"bench".as_ptr(),
@@ -78,7 +91,7 @@ fn step(c: &mut Criterion) {
             let mut v = vec![0.0; n as usize];
             let mut f = vec![0.0; n as usize];
             let name = format!(
-                "doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states, {sea}"
+                "doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states{label}, {sea}"
             );
             c.bench_function(&name, |b| {
                 b.iter(|| {

@@ -204,7 +204,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
         "Semicircle, default band kR 0.05 .. 5, fixed orders. Two identifications: the branch \
          chains (series chain for one DOF; for 9 DOFs groups of chains, the order counted per \
          invariant block of the data, two for the mirror-symmetric semicircle) and the rational \
-         path (passive vector fitting per invariant block realized as one mechanical \
+         path (passive vector fitting per invariant block, each block realized as a mechanical \
          substructure; order = poles per block, a pair counted twice; the default, \
          `CoupledMethod::Rational`; the chains are `CoupledMethod::Chains`). The default \
          automatic fit of the 9 DOFs meets 1 % with {} states. Error: the fit's largest \

@@ -103,7 +103,8 @@
 //!   gets no branch.
 //! * Rational path (coupled, [`CoupledMethod::Rational`], the default): passive vector
 //!   fitting of every invariant block ([`vector_fitting`]), with poles kept within a factor
-//!   30 of the band, realized as one mechanical substructure ([`synthesis`]); the order is the
+//!   30 of the band, each part of the fit that acts on its own motions (each block) realized
+//!   as a mechanical substructure ([`synthesis`]); the order is the
 //!   number of poles per block, the smallest that meets the tolerance wins. On the
 //!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.75 %, where the chains need 56.
 //!   For one DOF (automatic form) it then competes with the series chain and the parallel
@@ -172,7 +173,8 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
 /// One DOF, no form given: the series chain, and with [`CoupledMethod::Rational`] the rational
 /// path (a one-DOF coupled network with a substructure); if the chain misses the tolerance, the parallel bank too.
 /// Among the fits that meet the tolerance the one with the fewest states wins (the chain on a
-/// tie); if none does, the smallest error. A failed alternative leaves the chain.
+/// tie; the rational search stops below the states of a chain that meets it); if none does,
+/// the smallest error. A failed alternative leaves the chain.
 fn fit_one_dof_automatic(
     data: &FrequencyResponse,
     params: &FitParams,
@@ -180,8 +182,20 @@ fn fit_one_dof_automatic(
     let chain = fit_form(data, params, NetworkForm::SeriesChain)?;
     let mut candidates = vec![chain];
     if params.coupled_method == CoupledMethod::Rational {
-        if let Ok(rational) = fit_form(data, params, NetworkForm::Coupled) {
-            candidates.push(rational);
+        // One state per pole for one DOF: against a chain that meets the tolerance, only
+        // orders below its state count can win, so the search stops there.
+        let max_order = match (candidates[0].tolerance_met, params.order) {
+            (true, None) => params.max_order.min(candidates[0].states.saturating_sub(1)),
+            _ => params.max_order,
+        };
+        let rational = FitParams {
+            max_order,
+            ..params.clone()
+        };
+        if max_order >= 1 {
+            if let Ok(rational) = fit_form(data, &rational, NetworkForm::Coupled) {
+                candidates.push(rational);
+            }
         }
     }
     if !candidates[0].tolerance_met {

@@ -45,7 +45,7 @@ pub struct FitParams {
 /// How the coupled form is fitted (module docs of [`crate::identify`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CoupledMethod {
-    /// Passive vector fitting per invariant block, realized as one mechanical substructure
+    /// Passive vector fitting per invariant block, each realized as a mechanical substructure
     /// (fewest states). Falls back to [`CoupledMethod::Chains`] if no order gives
     /// a passive network.
     Rational,

@@ -1,6 +1,7 @@
 //! The rational path of the coupled form: passive vector fitting per invariant block
-//! ([`super::vector_fitting::passive_block_vector_fit`]) realized as one mechanical
-//! substructure ([`super::synthesis`]), the order chosen against the tolerance.
+//! ([`super::vector_fitting::passive_block_vector_fit`]), each part acting on its own motions
+//! realized as a mechanical substructure ([`super::synthesis`]), the order chosen against the
+//! tolerance.
 //!
 //! Order `k` is the number of poles per invariant block, a conjugate pair counted twice:
 //! `k` odd gives `(k - 1) / 2` pairs and one real pole; `k` even gives `k / 2` pairs, and

@@ -200,6 +200,41 @@ fn riccati(f: &DMatrix<f64>, g: &DMatrix<f64>, q: &DMatrix<f64>) -> Option<DMatr
     Some((&p + p.transpose()) * 0.5)
 }
 
+/// Step 4 stops when a step changes `P` by less than this (relative, Frobenius).
+const RECIPROCAL_CHANGE: f64 = 1e-13;
+
+/// Step 4 accepts a stall: a change below this that no longer halves (Newton's iteration has
+/// reached its rounding level, which for an ill-conditioned `P` can lie above
+/// [`RECIPROCAL_CHANGE`]).
+const RECIPROCAL_STALL: f64 = 1e-8;
+
+/// The reciprocal storage of step 4 (module docs): `P <- (P + T P^-1 T) / 2` from a storage
+/// `P` in the KYP set until the change is below `tolerance` or stalls at rounding level.
+fn reciprocal_storage(
+    mut p: DMatrix<f64>,
+    t: &DMatrix<f64>,
+    tolerance: f64,
+) -> Result<DMatrix<f64>, IdentifyError> {
+    let mut previous = f64::INFINITY;
+    for _ in 0..200 {
+        let inverse = p
+            .clone()
+            .cholesky()
+            .ok_or_else(|| failure("the storage lost positive definiteness".into()))?
+            .inverse();
+        let next = (&p + t * inverse * t) * 0.5;
+        let next = (&next + next.transpose()) * 0.5;
+        let change = (&next - &p).norm() / next.norm();
+        p = next;
+        let stalled = change < RECIPROCAL_STALL && (change == 0.0 || change > 0.5 * previous);
+        if change < tolerance || stalled {
+            return Ok(p);
+        }
+        previous = change;
+    }
+    Err(failure("the reciprocal storage did not converge".into()))
+}
+
 /// Realizes a passive [`RationalFit`] as a [`Substructure`] on its DOFs (module docs).
 /// Fails with [`IdentifyError::Synthesis`] when the fit is not passive (no storage function
 /// exists) or a step loses its accuracy.
@@ -269,27 +304,7 @@ pub fn synthesize(fit: &RationalFit) -> Result<(Substructure, SynthesisReport), 
             ));
         }
         // Step 4: P <- (P + T P^-1 T) / 2 until P = T P^-1 T.
-        let t = &sys.t;
-        let mut p = p;
-        let mut converged = false;
-        for _ in 0..200 {
-            let inverse = p
-                .clone()
-                .cholesky()
-                .ok_or_else(|| failure("the storage lost positive definiteness".into()))?
-                .inverse();
-            let next = (&p + t * inverse * t) * 0.5;
-            let next = (&next + next.transpose()) * 0.5;
-            let change = (&next - &p).norm() / next.norm();
-            p = next;
-            if change < 1e-13 {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(failure("the reciprocal storage did not converge".into()));
-        }
+        let p = reciprocal_storage(p, &sys.t, RECIPROCAL_CHANGE)?;
         // Step 5: coordinates with storage |x|^2 / 2 and signature Sigma.
         let l = p
             .cholesky()
@@ -299,7 +314,7 @@ pub fn synthesize(fit: &RationalFit) -> Result<(Substructure, SynthesisReport), 
             .clone()
             .try_inverse()
             .ok_or_else(|| failure("the storage factor is singular".into()))?;
-        let sigma0 = &l_inv * t * l_inv.transpose();
+        let sigma0 = &l_inv * &sys.t * l_inv.transpose();
         let eigen = crate::numerics::symmetric_eigen(&sigma0);
         if let Some(bad) = eigen
             .eigenvalues

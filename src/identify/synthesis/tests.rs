@@ -110,3 +110,18 @@ fn a_fit_that_is_not_passive_has_no_storage_function() {
     let err = synthesize(&fit).unwrap_err();
     assert!(matches!(err, IdentifyError::Synthesis(_)), "{err}");
 }
+
+#[test]
+fn the_reciprocal_storage_stops_at_its_rounding_level() {
+    // T = diag(1, 1, -1), P symmetric positive definite: Newton's sign iteration on T P, which
+    // converges to P = T P^-1 T. A change below 0 is unreachable, so only the stall ends it.
+    let t = DMatrix::from_diagonal(&nalgebra::DVector::from_row_slice(&[1.0, 1.0, -1.0]));
+    let a = DMatrix::from_row_slice(3, 3, &[2.0, 0.3, -0.5, 0.1, 1.5, 0.4, 0.7, -0.2, 3.0]);
+    let p = &a * a.transpose() + DMatrix::identity(3, 3) * 1e-3;
+    for tolerance in [1e-13, 0.0] {
+        let storage = reciprocal_storage(p.clone(), &t, tolerance).unwrap();
+        let mirrored = &t * storage.clone().try_inverse().unwrap() * &t;
+        assert!((&storage - mirrored).norm() < 1e-12 * storage.norm());
+        assert!(storage.clone().cholesky().is_some());
+    }
+}
