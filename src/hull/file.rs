@@ -7,6 +7,7 @@
 
 use super::builtin::check_circle_depth;
 use super::validate::{knots, validate_polyline};
+use super::MAX_CONTOUR_POINTS;
 use super::{craig_bampton_coefficients, Contour, Dof, Field, Hull, HullError, Point, RigidKind};
 use crate::xml::{self, escape, Element, Notation, XmlError};
 use std::path::Path;
@@ -416,6 +417,17 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     line,
                     format!(
                         "the contour has {} points; at least 3 are needed",
+                        points.len()
+                    ),
+                ));
+            }
+            if points.len() > MAX_CONTOUR_POINTS {
+                return Err(err(
+                    line,
+                    format!(
+                        "the contour has {} points; at most {MAX_CONTOUR_POINTS} are accepted \
+                         (MAX_CONTOUR_POINTS: the panels are placed along the contour's arc \
+                         length, and a finer contour adds no geometry they can use)",
                         points.len()
                     ),
                 ));

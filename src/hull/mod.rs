@@ -29,7 +29,14 @@
 //! * `validate.rs`: the geometric checks of a file's contour (waterline, self-contact,
 //!   orientation) and its arc-length knots.
 
+/// Most points a file contour may have. The panels (128 by default) are placed along the
+/// contour's arc length, so a contour finer than this adds no geometry they can use; the
+/// contour checks are linear in the points (a grid, `contact.rs`) and bounded by this limit
+/// in the worst case.
+pub const MAX_CONTOUR_POINTS: usize = 10_000;
+
 mod builtin;
+mod contact;
 mod craig_bampton;
 mod file;
 mod units;

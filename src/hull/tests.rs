@@ -473,3 +473,25 @@ fn select_dofs_keeps_order_and_checks_names() {
         assert_eq!(e.source_name(), "semicircle");
     }
 }
+
+#[test]
+fn a_contour_of_the_largest_size_is_read_and_a_larger_one_refused() {
+    // An open half circle below the free surface, `n` points from waterline to waterline.
+    let half_circle = |n: usize| -> Vec<Point> {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::PI * k as f64 / (n - 1) as f64;
+                [-t.cos(), if k == 0 || k == n - 1 { 0.0 } else { -t.sin() }]
+            })
+            .collect()
+    };
+    // The attack's 40,000 points took 125 s in the pairwise contact check; now refused at
+    // once, naming the limit; the largest accepted contour is checked by the grid.
+    expect_error(
+        &hull_xml(&half_circle(40_000), false),
+        Some(2),
+        "at most 10000 are accepted",
+    );
+    let hull = Hull::from_xml_str(&hull_xml(&half_circle(MAX_CONTOUR_POINTS), false), "t.xml");
+    assert!(hull.is_ok(), "{:?}", hull.err());
+}

@@ -3,6 +3,7 @@
 //! self-contact, a nonzero area and counter-clockwise orientation (a clockwise contour is
 //! reversed with a note); and the arc-length parameter `s` of its vertices.
 
+use super::contact::first_contact;
 use super::{HullError, Point};
 
 /// Relative tolerance (times the contour's largest extent) for waterline points on y = 0.
@@ -57,7 +58,7 @@ fn segments_cross(a: Point, b: Point, c: Point, d: Point) -> bool {
     d1 * d2 < 0.0 && d3 * d4 < 0.0
 }
 
-fn segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
+pub(super) fn segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
     if segments_cross(a, b, c, d) {
         return 0.0;
     }
@@ -173,27 +174,18 @@ pub(super) fn validate_polyline(
         }
     }
     // Non-adjacent segments must keep apart.
-    for i in 0..segments {
-        for j in i + 2..segments {
-            if closed && i == 0 && j == segments - 1 {
-                continue;
-            }
-            let (a, b) = seg(i);
-            let (c, d) = seg(j);
-            if segment_distance(a, b, c, d) <= contact_tol {
-                return Err(err(
-                    lines[(j + 1) % n],
-                    format!(
-                        "the contour intersects itself: the segment from line {} to line {} \
-                         meets the segment from line {} to line {}",
-                        lines[i],
-                        lines[(i + 1) % n],
-                        lines[j],
-                        lines[(j + 1) % n]
-                    ),
-                ));
-            }
-        }
+    if let Some((i, j)) = first_contact(points, segments, closed, contact_tol) {
+        return Err(err(
+            lines[(j + 1) % n],
+            format!(
+                "the contour intersects itself: the segment from line {} to line {} meets the \
+                 segment from line {} to line {}",
+                lines[i],
+                lines[(i + 1) % n],
+                lines[j],
+                lines[(j + 1) % n]
+            ),
+        ));
     }
 
     // Orientation: signed area (an open contour closes along the free surface).
