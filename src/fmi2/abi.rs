@@ -921,4 +921,6 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
 }
 
 #[cfg(test)]
+mod hostile_tests;
+#[cfg(test)]
 mod tests;

@@ -107,11 +107,15 @@ impl Resources {
     }
 
     /// Reads the resources folder.
+    /// Each file is refused, before it is read, if it is longer than
+    /// [`crate::xml::MAX_INPUT_BYTES`] (64 MiB, far above any real resource).
     pub fn read(dir: &Path) -> Result<Resources, ResourcesError> {
         let read = |name: &str| {
-            std::fs::read_to_string(dir.join(name)).map_err(|e| ResourcesError::Read {
-                path: dir.join(name),
-                reason: e.to_string(),
+            read_bounded(&dir.join(name), crate::xml::MAX_INPUT_BYTES).map_err(|reason| {
+                ResourcesError::Read {
+                    path: dir.join(name),
+                    reason,
+                }
             })
         };
         let network = read(Self::NETWORK_FILE)?;
@@ -166,6 +170,26 @@ impl Resources {
         }
         content_guid(&parts)
     }
+}
+
+/// The text of `path` if it holds at most `limit` bytes; the length is checked before
+/// reading, and the read stops past the limit (a file that grows, or a device).
+fn read_bounded(path: &Path, limit: usize) -> Result<String, String> {
+    use std::io::Read;
+    let too_long = || format!("longer than {limit} bytes (MAX_INPUT_BYTES)");
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let length = file.metadata().map_err(|e| e.to_string())?.len();
+    if length > limit as u64 {
+        return Err(too_long());
+    }
+    let mut bytes = Vec::with_capacity(length as usize);
+    file.take(limit as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() > limit {
+        return Err(too_long());
+    }
+    String::from_utf8(bytes).map_err(|_| "not UTF-8 text".to_string())
 }
 
 /// `keep_inf_mass` of `options.xml`: the root `<hydrofmu_options format="1" keep_inf_mass="true|false"/>`.

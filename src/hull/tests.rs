@@ -495,3 +495,25 @@ fn a_contour_of_the_largest_size_is_read_and_a_larger_one_refused() {
     let hull = Hull::from_xml_str(&hull_xml(&half_circle(MAX_CONTOUR_POINTS), false), "t.xml");
     assert!(hull.is_ok(), "{:?}", hull.err());
 }
+
+#[test]
+fn a_hull_file_nested_200000_deep_is_refused_in_a_small_thread() {
+    // Was a stack overflow that aborted fmu-pack.
+    let mut text = String::from("<hull name=\"t\" half_beam=\"1\">");
+    text.push_str(&"<contour>".repeat(200_000));
+    text.push_str(&"</contour>".repeat(200_000));
+    text.push_str("</hull>");
+    let shown = std::thread::Builder::new()
+        .stack_size(512 * 1024)
+        .spawn(move || {
+            Hull::from_xml_str(&text, "deep.xml")
+                .err()
+                .map(|e| e.to_string())
+        })
+        .unwrap()
+        .join()
+        .unwrap()
+        .expect("refused");
+    assert!(shown.starts_with("deep.xml:1:"), "{shown}");
+    assert!(shown.contains("MAX_DEPTH"), "{shown}");
+}

@@ -36,7 +36,8 @@ use std::path::Path;
 use nalgebra::{DMatrix, DVector};
 
 use super::{
-    Branch, Network, NetworkError, NetworkForm, Stage, Substructure, NETWORK_FORMAT_VERSION,
+    Branch, Network, NetworkError, NetworkForm, Stage, Substructure, MAX_BRANCH_STAGES,
+    MAX_NETWORK_DOFS, MAX_NETWORK_STATES, MAX_SUBSTRUCTURE_STATES, NETWORK_FORMAT_VERSION,
 };
 use crate::xml::{self, escape, Element, Notation, XmlError};
 
@@ -162,10 +163,6 @@ fn numbers(element: &Element, expected: usize) -> Result<Vec<f64>, XmlError> {
     Ok(values)
 }
 
-/// Most states one substructure may have (springs + masses): a step costs the square of the
-/// states, a new step size their cube; 4096 is far beyond any fit (tens of states).
-pub const MAX_SUBSTRUCTURE_STATES: usize = 4096;
-
 /// A matrix element of `rows` `<row>` children with `cols` numbers each.
 fn matrix(element: &Element, rows: usize, cols: usize) -> Result<DMatrix<f64>, XmlError> {
     element.only_attributes(&[])?;
@@ -254,6 +251,14 @@ fn substructure(element: &Element, n: usize) -> Result<Substructure, XmlError> {
     })
 }
 
+/// The refusal of a network whose states pass [`MAX_NETWORK_STATES`] at this element.
+fn too_many_states(states: usize) -> String {
+    format!(
+        "the network has {states} states up to here, at most {MAX_NETWORK_STATES} are accepted \
+         (MAX_NETWORK_STATES)"
+    )
+}
+
 /// An element holding nothing but attributes.
 fn leaf(element: &Element) -> Result<(), XmlError> {
     element.no_children()?;
@@ -288,6 +293,7 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
     let mut added_mass_inf: Option<DMatrix<f64>> = None;
     let mut branches = Vec::new();
     let mut substructures = Vec::new();
+    let mut states = 0usize;
     // Order: dof*, added_mass_inf, branch*, substructure*.
     let mut phase = 0;
     for child in &root.children {
@@ -298,6 +304,11 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                 }
                 child.only_attributes(&["name"])?;
                 leaf(child)?;
+                if dof_names.len() == MAX_NETWORK_DOFS {
+                    return Err(child.error(format!(
+                        "more than {MAX_NETWORK_DOFS} <dof> elements (MAX_NETWORK_DOFS)"
+                    )));
+                }
                 dof_names.push(child.required("name")?.to_string());
             }
             "added_mass_inf" => {
@@ -317,7 +328,12 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                     return Err(child.error("<substructure> before <added_mass_inf>"));
                 }
                 phase = 2;
-                substructures.push(substructure(child, dof_names.len())?);
+                let sub = substructure(child, dof_names.len())?;
+                states += sub.state_count();
+                if states > MAX_NETWORK_STATES {
+                    return Err(child.error(too_many_states(states)));
+                }
+                substructures.push(sub);
             }
             "branch" => {
                 if phase == 0 {
@@ -344,6 +360,12 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                         "stage" => {
                             part.only_attributes(&["mass", "stiffness", "damping"])?;
                             leaf(part)?;
+                            if stages.len() == MAX_BRANCH_STAGES {
+                                return Err(part.error(format!(
+                                    "<branch> has more than {MAX_BRANCH_STAGES} stages \
+                                     (MAX_BRANCH_STAGES)"
+                                )));
+                            }
                             stages.push(Stage {
                                 mass: part.required_number("mass")?,
                                 stiffness: part.required_number("stiffness")?,
@@ -361,6 +383,10 @@ fn network_from_tree(root: &Element) -> Result<Network, XmlError> {
                     direction.ok_or_else(|| child.error("<branch> has no <direction>"))?;
                 if stages.is_empty() {
                     return Err(child.error("<branch> has no <stage>"));
+                }
+                states += 2 * stages.len();
+                if states > MAX_NETWORK_STATES {
+                    return Err(child.error(too_many_states(states)));
                 }
                 branches.push(Branch { direction, stages });
             }

@@ -59,6 +59,25 @@ use num_complex::Complex64;
 /// Version written to and required in the `format_version` attribute of network files.
 pub const NETWORK_FORMAT_VERSION: u32 = 1;
 
+/// Most hull DOFs of a network: a ship's rigid motions with hundreds of girder or generalized
+/// modes fit; `added_mass_inf` then holds a million numbers (8 MB), and the file reader refuses
+/// more before anything of that size is allocated.
+pub const MAX_NETWORK_DOFS: usize = 1000;
+
+/// Most stages (auxiliary masses) of one branch. A chain is stepped as one block whose new
+/// step size costs an exponential of twice its stages (cubic); fits use 1 to 12.
+pub const MAX_BRANCH_STAGES: usize = 64;
+
+/// Most states of a whole network (twice the branch stages plus the substructures' springs
+/// and masses). The component keeps dense matrices of this size (32 MB at the limit), and a new
+/// step size costs one exponential per block: at most 2048 / 512 blocks of the largest
+/// substructure ([`MAX_SUBSTRUCTURE_STATES`]), measured in docs/STABILITY.md.
+pub const MAX_NETWORK_STATES: usize = 2048;
+
+/// Most states of one substructure (springs + masses): a step costs the square of its states,
+/// a new step size their cube (about 0.1 s at this limit, docs/STABILITY.md); fits have tens.
+pub const MAX_SUBSTRUCTURE_STATES: usize = 512;
+
 /// Relative tolerance for the symmetry and positive semi-definiteness of `A_inf`.
 const MATRIX_TOLERANCE: f64 = 1e-9;
 
@@ -243,6 +262,42 @@ impl Network {
         let n = self.dof_names.len();
         if n == 0 {
             return bad("the network has no DOFs".into());
+        }
+        if n > MAX_NETWORK_DOFS {
+            return bad(format!(
+                "the network has {n} DOFs, at most {MAX_NETWORK_DOFS} are accepted (MAX_NETWORK_DOFS)"
+            ));
+        }
+        if let Some((b, branch)) = self
+            .branches
+            .iter()
+            .enumerate()
+            .find(|(_, b)| b.stages.len() > MAX_BRANCH_STAGES)
+        {
+            return bad(format!(
+                "branch {} has {} stages, at most {MAX_BRANCH_STAGES} are accepted (MAX_BRANCH_STAGES)",
+                b + 1,
+                branch.stages.len()
+            ));
+        }
+        if let Some((k, sub)) = self
+            .substructures
+            .iter()
+            .enumerate()
+            .find(|(_, s)| s.state_count() > MAX_SUBSTRUCTURE_STATES)
+        {
+            return bad(format!(
+                "substructure {} has {} states, at most {MAX_SUBSTRUCTURE_STATES} are accepted \
+                 (MAX_SUBSTRUCTURE_STATES)",
+                k + 1,
+                sub.state_count()
+            ));
+        }
+        if self.state_count() > MAX_NETWORK_STATES {
+            return bad(format!(
+                "the network has {} states, at most {MAX_NETWORK_STATES} are accepted (MAX_NETWORK_STATES)",
+                self.state_count()
+            ));
         }
         for (i, name) in self.dof_names.iter().enumerate() {
             if name.is_empty() || name.chars().any(|c| c.is_whitespace() || c.is_control()) {

@@ -192,14 +192,14 @@ fn substructure_errors_name_file_line_and_problem() {
     let cases = [
         (
             good.replace("springs=\"2\"", "springs=\"1000000000\""),
-            "not a count from 0 to 4096",
+            "not a count from 0 to 512",
         ),
         (
             good.replace(
                 "springs=\"2\" masses=\"1\"",
-                "springs=\"3000\" masses=\"3000\"",
+                "springs=\"300\" masses=\"300\"",
             ),
-            "6000 states",
+            "600 states",
         ),
         (
             good.replace(

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 /// Log lines: (status, category, message as received, i.e. with `%%`).
-type Log = Mutex<Vec<(i32, String, String)>>;
+pub(super) type Log = Mutex<Vec<(i32, String, String)>>;
 
 unsafe extern "C" fn rust_logger(
     env: fmi2ComponentEnvironment,
@@ -34,7 +34,7 @@ unsafe extern "C" fn rust_logger(
         .push((status, text(category), text(message)));
 }
 
-fn callbacks(log: &Log) -> fmi2CallbackFunctions {
+pub(super) fn callbacks(log: &Log) -> fmi2CallbackFunctions {
     // SAFETY: test only: on x86-64 System V a non-variadic callee ignores the vector
     // register count a variadic call passes; we never pass variadic arguments.
     let logger = unsafe {
@@ -61,13 +61,13 @@ fn callbacks(log: &Log) -> fmi2CallbackFunctions {
 static COUNTER: AtomicUsize = AtomicUsize::new(0);
 
 /// An unpacked FMU's resources folder on disk.
-struct Unpacked {
+pub(super) struct Unpacked {
     dir: PathBuf,
     guid: CString,
 }
 
 impl Unpacked {
-    fn new(network: &str, keep: bool, folder_name: &str) -> Unpacked {
+    pub(super) fn new(network: &str, keep: bool, folder_name: &str) -> Unpacked {
         let dir = std::env::temp_dir().join(format!(
             "hydrofmu-fmi2-{}-{}",
             std::process::id(),
@@ -88,7 +88,7 @@ impl Unpacked {
         }
     }
 
-    fn uri(&self) -> CString {
+    pub(super) fn uri(&self) -> CString {
         CString::new(format!("file://{}", self.dir.display())).unwrap()
     }
 }
@@ -101,7 +101,7 @@ impl Drop for Unpacked {
     }
 }
 
-fn instantiate(
+pub(super) fn instantiate(
     fmu: &Unpacked,
     uri: &CStr,
     functions: &fmi2CallbackFunctions,
