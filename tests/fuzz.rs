@@ -1,0 +1,318 @@
+//! Mutation fuzzing of every file parser the component and `fmu-pack` read (docs/STABILITY.md):
+//! the generic XML reader, network files (read, realized, stepped), hull files (read, panelled),
+//! the options file and the excitation table. Each target starts from valid files and the
+//! crafted cases of the hostile-input issue, mutates them (bit flips, XML-ish bytes, deleted,
+//! repeated or spliced ranges, numbers replaced by extreme ones, truncation) and asserts that
+//! nothing panics and that what is accepted is usable: a network realizes and steps, a hull
+//! gives panels.
+//!
+//! Bounded: `HYDROFMU_FUZZ_CASES` cases per target (default 2000) and `HYDROFMU_FUZZ_SECONDS`
+//! seconds per target (default 10), whichever ends first. A long run:
+//!
+//! ```sh
+//! HYDROFMU_FUZZ_CASES=1000000 HYDROFMU_FUZZ_SECONDS=1200 \
+//!     cargo test --release --test fuzz -- --nocapture --test-threads 1
+//! ```
+//!
+//! A failing input is written to `target/fuzz-failures/<target>-<case>.txt`.
+
+use hydrofmu::fmu::Resources;
+use hydrofmu::hull::Hull;
+use hydrofmu::network::Network;
+use hydrofmu::panels::{self, PanelParams};
+use hydrofmu::waves::ExcitationTable;
+use hydrofmu::{Model, ModelOptions};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::time::{Duration, Instant};
+
+#[path = "../benches/common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+
+/// Deterministic numbers (SplitMix64).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+/// Most inputs kept for mutation (the seeds, then accepted mutants).
+const CORPUS: usize = 256;
+
+/// Bytes that matter to the formats.
+const BYTES: &[u8] = b"<>/=\"' \n\t&;#-+.eE0123456789,:xXn!?";
+
+/// Numbers that break naive arithmetic.
+const NUMBERS: &[&str] = &[
+    "0",
+    "-0",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "1e154",
+    "1e250",
+    "NaN",
+    "inf",
+    "-inf",
+    "4294967296",
+    "18446744073709551616",
+    "9999999999",
+    "-1",
+    "1e-160",
+    "3.0e+",
+];
+
+/// One mutated input from `seed` (and sometimes a piece of another corpus member).
+fn mutate(rng: &mut Rng, seed: &[u8], corpus: &[Vec<u8>]) -> Vec<u8> {
+    let mut out = seed.to_vec();
+    let limit = 4 * seed.len() + 65_536;
+    for _ in 0..1 + rng.below(4) {
+        let at = rng.below(out.len() + 1);
+        match rng.below(8) {
+            0 if !out.is_empty() => {
+                let i = at.min(out.len() - 1);
+                out[i] ^= 1 << rng.below(8);
+            }
+            1 if !out.is_empty() => {
+                let i = at.min(out.len() - 1);
+                out[i] = BYTES[rng.below(BYTES.len())];
+            }
+            2 => {
+                let end = (at + 1 + rng.below(64)).min(out.len());
+                out.drain(at.min(end)..end);
+            }
+            3 if out.len() < limit => {
+                let end = (at + 1 + rng.below(256)).min(out.len());
+                let piece = out[at.min(end)..end].to_vec();
+                let most = if rng.below(8) == 0 { 1000 } else { 4 };
+                let times = 1 + rng.below(most);
+                let to = rng.below(out.len() + 1);
+                for _ in 0..times {
+                    out.splice(to..to, piece.iter().copied());
+                    if out.len() > limit {
+                        break;
+                    }
+                }
+            }
+            4 => {
+                // A number: the digits around `at` become an extreme value.
+                let is_num = |b: u8| b.is_ascii_digit() || b"+-.eE".contains(&b);
+                let (mut lo, mut hi) = (at.min(out.len()), at.min(out.len()));
+                while lo > 0 && is_num(out[lo - 1]) {
+                    lo -= 1;
+                }
+                while hi < out.len() && is_num(out[hi]) {
+                    hi += 1;
+                }
+                let value = NUMBERS[rng.below(NUMBERS.len())].as_bytes();
+                out.splice(lo..hi, value.iter().copied());
+            }
+            5 if !corpus.is_empty() => {
+                let other = &corpus[rng.below(corpus.len())];
+                let from = rng.below(other.len());
+                let end = (from + 1 + rng.below(512)).min(other.len());
+                out.splice(at..at, other[from..end].iter().copied());
+            }
+            6 => out.truncate(at),
+            _ => {
+                let b = BYTES[rng.below(BYTES.len())];
+                out.insert(at, b);
+            }
+        }
+        out.truncate(limit);
+    }
+    out
+}
+
+/// Runs `target` on mutations of `seeds` (and on the seeds themselves); a panic or an `Err`
+/// (an accepted input that is not usable) fails the test.
+/// The first `valid` seeds are valid files and must be accepted.
+fn fuzz(name: &str, seeds: &[String], valid: usize, target: impl Fn(&str) -> Result<bool, String>) {
+    let env = |key: &str, default: u64| {
+        std::env::var(key)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let cases = env("HYDROFMU_FUZZ_CASES", 2000);
+    let budget = Duration::from_secs(env("HYDROFMU_FUZZ_SECONDS", 10));
+    let mut corpus: Vec<Vec<u8>> = seeds.iter().map(|s| s.as_bytes().to_vec()).collect();
+    let mut rng = Rng(0x5EED ^ name.len() as u64);
+    let start = Instant::now();
+    let (mut done, mut accepted) = (0u64, 0u64);
+    for case in 0..cases {
+        if start.elapsed() > budget {
+            break;
+        }
+        let bytes = match corpus.get(case as usize) {
+            Some(seed) => seed.clone(),
+            None => {
+                let seed = rng.below(corpus.len());
+                mutate(&mut rng, &corpus[seed], &corpus)
+            }
+        };
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        let outcome = catch_unwind(AssertUnwindSafe(|| target(&text)));
+        if (case as usize) < valid && !matches!(outcome, Ok(Ok(true))) {
+            panic!("{name}: valid seed {case} was not accepted");
+        }
+        let failure = match outcome {
+            Ok(Ok(ok)) => {
+                accepted += u64::from(ok);
+                // Accepted mutants breed further (a corpus of at most CORPUS inputs).
+                if ok && case as usize >= seeds.len() {
+                    if corpus.len() < CORPUS {
+                        corpus.push(bytes.clone());
+                    } else {
+                        let slot = seeds.len() + rng.below(CORPUS - seeds.len());
+                        corpus[slot] = bytes.clone();
+                    }
+                }
+                None
+            }
+            Ok(Err(why)) => Some(why),
+            Err(_) => Some("panic".to_string()),
+        };
+        if let Some(why) = failure {
+            let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/fuzz-failures");
+            let _ = std::fs::create_dir_all(&dir);
+            let path = dir.join(format!("{name}-{case}.txt"));
+            let _ = std::fs::write(&path, &bytes);
+            panic!("{name}, case {case}: {why} (input: {})", path.display());
+        }
+        done += 1;
+    }
+    eprintln!(
+        "fuzz {name}: {done} cases, {accepted} accepted, {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(
+        done >= (seeds.len() as u64).min(cases),
+        "{name}: not even the seeds ran"
+    );
+}
+
+fn read(path: &str) -> String {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(root.join(path)).unwrap()
+}
+
+/// `<a>` nested `levels` deep inside `<root>`.
+fn nested(root: &str, inner: &str, levels: usize) -> String {
+    format!(
+        "<{root}>{}{}</{root}>",
+        format!("<{inner}>").repeat(levels),
+        format!("</{inner}>").repeat(levels)
+    )
+}
+
+fn network_seeds() -> Vec<String> {
+    let stage = r#"<stage mass="1" stiffness="1" damping="1"/>"#;
+    let head = r#"<network format_version="1" form="coupled" rho="1025" g="9.81"><dof name="sway"/><added_mass_inf><row>1</row></added_mass_inf>"#;
+    vec![
+        read("examples/networks/seed_2dof.xml"),
+        read("examples/networks/two-dof-sway-heave.xml"),
+        read("examples/networks/semicircle_9dof.xml"),
+        nested("network", "branch", 100),
+        format!("{head}<branch><direction>1</direction>{}</branch></network>", stage.repeat(100)),
+        format!(
+            "{head}<branch><direction>1</direction><stage mass=\"1e154\" stiffness=\"1e250\" damping=\"1e-300\"/></branch></network>"
+        ),
+    ]
+}
+
+fn hull_seeds() -> Vec<String> {
+    vec![
+        read("examples/hulls/barge.xml"),
+        read("examples/hulls/midship.xml"),
+        read("examples/hulls/pontoon.xml"),
+        read("examples/hulls/semicircle.xml"),
+        nested("hull", "contour", 100),
+        read("examples/hulls/barge.xml").replace("half_beam=\"", "half_beam=\"1e154"),
+    ]
+}
+
+#[test]
+fn fuzz_the_xml_reader() {
+    let mut seeds = network_seeds();
+    seeds.extend(hull_seeds());
+    fuzz("xml", &seeds, 3, |text| {
+        Ok(hydrofmu::xml::parse(text).is_ok())
+    });
+}
+
+#[test]
+fn fuzz_network_files() {
+    let options = ModelOptions {
+        keep_inf_mass: false,
+        guid: None,
+    };
+    fuzz("network", &network_seeds(), 3, |text| {
+        let Ok(network) = Network::from_xml_str(text, "fuzz.xml") else {
+            return Ok(false);
+        };
+        network
+            .validate()
+            .map_err(|e| format!("read but not valid: {e}"))?;
+        if let Ok(mut model) = Model::new(&network, options.clone()) {
+            let _ = model.set_value(hydrofmu::fmu::variables::Quantity::Velocity(0), 1.0);
+            let _ = model.step(0.0, 0.01);
+            let _ = model.forces();
+        }
+        Ok(true)
+    });
+}
+
+#[test]
+fn fuzz_hull_files() {
+    fuzz("hull", &hull_seeds(), 4, |text| {
+        let Ok(hull) = Hull::from_xml_str(text, "fuzz.xml") else {
+            return Ok(false);
+        };
+        let params = PanelParams {
+            body_panels: 32,
+            ..PanelParams::for_hull(&hull)
+        };
+        let _ = panels::discretize(&hull, &params);
+        Ok(true)
+    });
+}
+
+#[test]
+fn fuzz_options_files() {
+    let network = read("examples/networks/seed_2dof.xml");
+    let seeds = vec![
+        Resources::options_text(false),
+        Resources::options_text(true),
+        nested("hydrofmu_options", "x", 100),
+    ];
+    fuzz("options", &seeds, 2, |text| {
+        Ok(Resources::new(network.clone(), None, text.to_string()).is_ok())
+    });
+}
+
+#[test]
+fn fuzz_excitation_tables() {
+    // A small table first (fast cases), then the synthetic 9-DOF one.
+    let small = "# modes: sway heave\n# convention: exp(+i omega t)\n# R: 1 m\n\
+                 # length exponents: 0 0\nkR,j,heading,re,im\n\
+                 0.1,1,0,1.5,-0.2\n0.1,2,0,0.5,0.1\n1,1,0,0.3,-0.4\n1,2,0,0.2,0.05\n";
+    let seeds = vec![
+        small.to_string(),
+        common::synthetic_excitation_csv(),
+        common::synthetic_excitation_csv().replace("# R: 1 m", "# R: 1e308 m"),
+    ];
+    fuzz("excitation", &seeds, 2, |text| {
+        Ok(ExcitationTable::from_csv_str(text, "fuzz.csv").is_ok())
+    });
+}
