@@ -49,6 +49,10 @@ impl Rng {
 /// Most inputs kept for mutation (the seeds, then accepted mutants).
 const CORPUS: usize = 256;
 
+/// Largest accepted mutant kept for breeding: larger ones are tried once (their limits are
+/// what they test) but would slow every later case.
+const BREEDING_BYTES: usize = 32 * 1024;
+
 /// Bytes that matter to the formats.
 const BYTES: &[u8] = b"<>/=\"' \n\t&;#-+.eE0123456789,:xXn!?";
 
@@ -170,7 +174,7 @@ fn fuzz(name: &str, seeds: &[String], valid: usize, target: impl Fn(&str) -> Res
             Ok(Ok(ok)) => {
                 accepted += u64::from(ok);
                 // Accepted mutants breed further (a corpus of at most CORPUS inputs).
-                if ok && case as usize >= seeds.len() {
+                if ok && case as usize >= seeds.len() && bytes.len() <= BREEDING_BYTES {
                     if corpus.len() < CORPUS {
                         corpus.push(bytes.clone());
                     } else {
