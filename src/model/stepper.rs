@@ -83,7 +83,7 @@ impl Stepper {
         let time = anchor + steps as f64 * h;
         if !time.is_finite() {
             return Err(ModelError::Step(format!(
-                "the step from time {current} by {h} ends at {time}, beyond the f64 range"
+                "the step from time {current:e} by {h:e} ends at {time}, beyond the f64 range"
             )));
         }
         if let Some(stop) = state.stop_time {
