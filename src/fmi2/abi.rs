@@ -412,7 +412,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     unsafe { call(c, Function::SetDebugLogging, body) }
 }
 
-/// Sets the start time (the tolerance and stop time are not needed).
+/// Sets the start time and, if defined, the stop time (no step may end past it).
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetupExperiment(
     c: fmi2Component,

@@ -4,9 +4,10 @@
 //! Every method is one FMI call and returns its [`Status`]:
 //! - a call outside its phases is refused (fmi2Error, logged) and the phase stays;
 //! - a call that is allowed but fails (unknown value reference, NaN or infinite input,
-//!   h <= 0, a communication point that is not the instance's time, corrupt state bytes,
-//!   slices of different lengths, ...) returns fmi2Error, leaves the model state unchanged
-//!   and moves the instance to the error phase; fmi2Reset or fmi2SetFMUstate recover;
+//!   h <= 0, a communication point that is not the instance's time, a step past the stop
+//!   time, corrupt or inconsistent state bytes, a value to return that is not finite, slices
+//!   of different lengths, ...) returns fmi2Error, leaves the model state unchanged and moves
+//!   the instance to the error phase; fmi2Reset or fmi2SetFMUstate recover;
 //! - with `logCalls` on, each call is logged once, with its final status.
 //!
 //! Messages are collected ([`Instance::take_messages`]), never sent from here.
@@ -267,7 +268,9 @@ impl Instance {
         })
     }
 
-    /// fmi2SetupExperiment: sets the start time (the tolerance and stop time are not needed).
+    /// fmi2SetupExperiment: sets the start time and, if defined, the stop time: a step that
+    /// would end past it is an error (FMI 2.0; within the time tolerance). fmi2Reset clears
+    /// it; it is part of the FMU state (restored with it). The tolerance is not needed.
     pub fn setup_experiment(
         &mut self,
         _tolerance: Option<f64>,
@@ -281,7 +284,7 @@ impl Instance {
                 }
             }
             inst.model
-                .set_start_time(start_time)
+                .set_experiment(start_time, stop_time)
                 .map_err(|e| e.to_string())?;
             Ok(Status::Ok)
         })
@@ -638,6 +641,13 @@ impl Instance {
                         .partial_derivative(uq, *kq)
                         .map_err(|e| e.to_string())?
                         * s;
+                }
+                if !sum.is_finite() {
+                    return Err(format!(
+                        "the directional derivative of {} is not finite ({sum}): the seeds \
+                         dvKnown or the state overflow f64",
+                        inst.variable_name(*u)
+                    ));
                 }
                 *o = sum;
             }

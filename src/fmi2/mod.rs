@@ -13,10 +13,12 @@
 //! instantiated -> initialization mode -> step complete -> terminated, plus error and fatal.
 //! A call not allowed in the current phase returns `fmi2Error`, logs why, and leaves the
 //! phase alone. A call that is allowed but fails (bad pointer, unknown value reference,
-//! NaN or infinite input, h <= 0, a communication point that is not the instance's time,
-//! corrupt state bytes, ...) returns `fmi2Error`, leaves the model state unchanged and moves
-//! the instance to the error phase, as the standard says; `fmi2Reset` or `fmi2SetFMUstate`
-//! make it usable again. A panic (a bug) is caught and gives `fmi2Fatal`.
+//! NaN or infinite input, h <= 0, a communication point that is not the instance's time, a
+//! step past the stop time of `fmi2SetupExperiment`, corrupt or inconsistent state bytes, a
+//! value to return that is not finite, ...) returns `fmi2Error`, leaves the model state
+//! unchanged and moves the instance to the error phase, as the standard says; `fmi2Reset`
+//! or `fmi2SetFMUstate` make it usable again. No call returns a NaN or infinite number with
+//! `fmi2OK`. A panic (a bug) is caught and gives `fmi2Fatal`.
 //!
 //! # Resources and GUID
 //! `fmuResourceLocation` is a `file:` URI ([`resource_path`]). The GUID given by the master

@@ -29,7 +29,16 @@
 //!
 //! Time: a step must start at the component's time (relative tolerance
 //! [`TIME_TOLERANCE`] times the larger of |t| and h); the new time is `anchor + k h`
-//! while the master keeps one step size (no drift from repeated additions).
+//! while the master keeps one step size (no drift from repeated additions), for at most
+//! [`MAX_STEPS_SINCE_ANCHOR`] steps, where `k` as an f64 is still exact. A step may not end
+//! past a defined stop time ([`Model::set_experiment`]; the same tolerance), nor beyond the
+//! f64 range.
+//!
+//! Finite values only: a value read ([`Model::value`], [`Model::output_derivative`],
+//! [`Model::partial_derivative`]) that is not finite is an error
+//! ([`ModelError::NotFinite`]) naming it, never a number; so is a parameter change whose
+//! calculated parameters overflow. A state replaces the current one only if it meets the
+//! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
 mod outputs;
 mod snapshot;
@@ -37,6 +46,10 @@ mod stepper;
 mod system;
 #[cfg(test)]
 pub(crate) mod tests;
+mod validate;
+
+#[cfg(test)]
+pub(crate) use snapshot::tests::{tampered, StateField};
 
 pub use crate::fmu::resources::Resources;
 pub use stepper::Stepper;
@@ -45,7 +58,8 @@ pub use system::RadiationSystem;
 use crate::discretize::DiscretizeError;
 use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use crate::fmu::resources::ResourcesError;
-use crate::fmu::variables::{Quantity, WaveParameter};
+use crate::fmu::units::DofUnit;
+use crate::fmu::variables::{Layout, Quantity, WaveParameter};
 use crate::hull::Hull;
 use crate::hydrostatics;
 use crate::network::{Network, NetworkError};
@@ -64,6 +78,11 @@ pub const TIME_TOLERANCE: f64 = 1e-10;
 /// beyond anything physical, and small enough that force, power and energy stay finite
 /// (they are at most quadratic in the inputs); larger values are refused like NaN.
 pub const MAX_INPUT: f64 = 1e100;
+
+/// Most equal steps counted from one time anchor: up to 2^53 the count is exact as an f64,
+/// so `anchor + k h` stays the time after k steps. The stepper starts a new anchor there
+/// (2^53 steps of 1 us last 285 years); a restored state with a larger count is refused.
+pub const MAX_STEPS_SINCE_ANCHOR: u64 = 1 << 53;
 
 /// A finite value within [`MAX_INPUT`]: what an input, input derivative or parameter may be.
 pub fn acceptable(value: f64) -> bool {
@@ -104,6 +123,14 @@ pub enum ModelError {
     State(String),
     /// The waves or the hydrostatics cannot be set up (the resource tables, the sea).
     Waves(String),
+    /// A value to be read or used is not finite: the parameters, inputs or state overflow
+    /// f64 there. Nothing was changed.
+    NotFinite {
+        /// What overflowed (the FMU variable's name where there is one).
+        what: String,
+        /// The value (inf, -inf or NaN).
+        value: f64,
+    },
 }
 
 impl fmt::Display for ModelError {
@@ -124,6 +151,11 @@ impl fmt::Display for ModelError {
             ModelError::Discretize(e) => write!(f, "step refused: {e}"),
             ModelError::State(m) => write!(f, "FMU state: {m}"),
             ModelError::Waves(m) => write!(f, "waves: {m}"),
+            ModelError::NotFinite { what, value } => write!(
+                f,
+                "{what} is not finite ({value}): the parameters, inputs or state overflow f64 \
+                 there; nothing was changed"
+            ),
         }
     }
 }
@@ -193,6 +225,9 @@ pub struct ModelState {
     pub waves: WaveParams,
     /// Start time of the run (the waves' ramp starts here).
     pub start_time: f64,
+    /// Stop time of the run, if the master defined one: no step may end after it. Part of
+    /// the state like the start time, so a restored state keeps the experiment it was saved in.
+    pub stop_time: Option<f64>,
 }
 
 impl ModelState {
@@ -212,9 +247,11 @@ impl ModelState {
             acceleration_derivative: DVector::zeros(dofs),
             waves: WaveParams::default(),
             start_time: 0.0,
+            stop_time: None,
         }
     }
 
+    /// The vectors in the order of the state bytes: z, v, v', a, a'.
     pub(super) fn vectors(&self) -> [&DVector<f64>; 5] {
         [
             &self.network,
@@ -330,6 +367,7 @@ impl Model {
                     Some(DMatrix::from_fn(names.len(), names.len(), |i, j| {
                         c[(index[i], index[j])]
                     }));
+                model.check_hydrostatics(DEFAULT_RHO, DEFAULT_G)?;
             }
         }
         Ok(model)
@@ -405,6 +443,59 @@ impl Model {
         )
     }
 
+    /// Refuses rho and g at which `stiffness_hydrostatic` (`C / (rho g)` times rho g) is not
+    /// finite, naming the entry.
+    fn check_hydrostatics(&self, rho: f64, g: f64) -> Result<(), ModelError> {
+        let Some(c) = &self.hydrostatics_per_rho_g else {
+            return Ok(());
+        };
+        let n = c.nrows();
+        match c
+            .iter()
+            .enumerate()
+            .find(|(_, x)| !(*x * (rho * g)).is_finite())
+        {
+            Some((k, x)) => Err(ModelError::NotFinite {
+                what: format!(
+                    "stiffness_hydrostatic[{},{}] at rho = {rho:e}, g = {g:e}",
+                    k % n + 1,
+                    k / n + 1
+                ),
+                value: x * (rho * g),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
+    /// messages; its Debug form where the layout has no such variable.
+    pub fn variable_name(&self, quantity: Quantity) -> String {
+        let dofs = self
+            .dof_names()
+            .iter()
+            .map(|name| DofUnit::new(name, 0, false))
+            .collect();
+        Layout::new(dofs, self.system.keep_inf_mass)
+            .ok()
+            .and_then(|layout| {
+                let reference = layout.value_reference(quantity)?;
+                Some(layout.variable(reference)?.name.clone())
+            })
+            .unwrap_or_else(|| format!("{quantity:?}"))
+    }
+
+    /// `value` if it is finite, else [`ModelError::NotFinite`] naming `what`.
+    fn finite(what: impl FnOnce() -> String, value: f64) -> Result<f64, ModelError> {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(ModelError::NotFinite {
+                what: what(),
+                value,
+            })
+        }
+    }
+
     /// Resource folder of an FMU from its unzipped root.
     pub fn resource_dir(fmu_root: &Path) -> PathBuf {
         fmu_root.join("resources")
@@ -435,34 +526,21 @@ impl Model {
         self.state.time
     }
 
-    /// Replaces the state (dimensions and values checked; rho or g changes re-realize).
+    /// Replaces the state, if it meets the rules of `validate` (dimensions, finite values
+    /// within their limits, a consistent time); rho or g changes re-realize. On error
+    /// nothing changes.
     pub fn set_state(&mut self, state: ModelState) -> Result<(), ModelError> {
-        let n = self.dof_count();
-        let ns = self.system.state_size();
-        let dims = [ns, n, n, n, n];
-        for (v, d) in state.vectors().iter().zip(dims) {
-            if v.len() != d {
-                return Err(ModelError::State(format!(
-                    "a vector has {} entries, expected {d}",
-                    v.len()
-                )));
-            }
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::State("non-finite values".into()));
-            }
-        }
-        if !state.time.is_finite() || !state.time_anchor.is_finite() || !state.last_step.is_finite()
-        {
-            return Err(ModelError::State("non-finite time".into()));
-        }
+        let system = self.check_state(&state)?;
+        let stepper = system.as_ref().map(Stepper::new).transpose()?;
         // The sea of the restored parameters, built before anything changes.
         let sea = if self.waves_started {
             self.build_sea(&state)?
         } else {
             None
         };
-        if state.rho != self.system.rho || state.g != self.system.g {
-            self.rebuild(state.rho, state.g)?;
+        if let (Some(system), Some(stepper)) = (system, stepper) {
+            self.system = system;
+            self.stepper = stepper;
         }
         self.sea = sea.map(|s| {
             let scratch = s.scratch();
@@ -480,21 +558,46 @@ impl Model {
         self.set_state(rest)
     }
 
-    /// Sets the start time (only meaningful before the first step).
+    /// Sets the start time, without a stop time (only meaningful before the first step).
     pub fn set_start_time(&mut self, time: f64) -> Result<(), ModelError> {
-        if !time.is_finite() {
-            return Err(ModelError::Step(format!("start time {time} is not finite")));
+        self.set_experiment(time, None)
+    }
+
+    /// Sets the start time and the stop time of the run (fmi2SetupExperiment; only
+    /// meaningful before the first step). No step may end past a defined stop time (within
+    /// [`TIME_TOLERANCE`]); `None` or +inf: no stop time.
+    pub fn set_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
+        if !start.is_finite() {
+            return Err(ModelError::Step(format!(
+                "start time {start} is not finite"
+            )));
         }
-        self.state.time = time;
-        self.state.start_time = time;
-        self.state.time_anchor = time;
+        let stop = stop.filter(|t| *t != f64::INFINITY);
+        if let Some(stop) = stop {
+            if stop.is_nan() || stop < start {
+                return Err(ModelError::Step(format!(
+                    "stop time {stop} is not a time at or after the start time {start}"
+                )));
+            }
+        }
+        self.state.time = start;
+        self.state.start_time = start;
+        self.state.stop_time = stop;
+        self.state.time_anchor = start;
         self.state.last_step = 0.0;
         self.state.steps_since_anchor = 0;
         Ok(())
     }
 
-    fn rebuild(&mut self, rho: f64, g: f64) -> Result<(), ModelError> {
+    /// The system at rho, g, if it and `stiffness_hydrostatic` there are finite.
+    fn realize_at(&self, rho: f64, g: f64) -> Result<RadiationSystem, ModelError> {
         let system = RadiationSystem::realize(&self.network, self.system.keep_inf_mass, rho, g)?;
+        self.check_hydrostatics(rho, g)?;
+        Ok(system)
+    }
+
+    fn rebuild(&mut self, rho: f64, g: f64) -> Result<(), ModelError> {
+        let system = self.realize_at(rho, g)?;
         let stepper = Stepper::new(&system)?;
         self.system = system;
         self.stepper = stepper;

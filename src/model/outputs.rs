@@ -15,9 +15,39 @@
 //! `energy_spring = 1/2 z_e^T P_ee z_e`; `d A_inf/dg = 0`, `d damping_direct/dg =
 //! damping_direct / (2 g)`.
 
-use super::{Model, ModelError};
+use super::{Model, ModelError, ModelState, RadiationSystem};
 use crate::fmu::variables::Quantity;
 use nalgebra::DVector;
+
+/// The network's force `C z + D v [- A_inf a]` at state `s` into `force` (`branch_forces`:
+/// scratch, one entry per branch).
+pub(super) fn radiation_force(
+    sys: &RadiationSystem,
+    s: &ModelState,
+    branch_forces: &mut DVector<f64>,
+    force: &mut DVector<f64>,
+) {
+    sys.branch_force
+        .apply(s.network.as_slice(), branch_forces.as_mut_slice());
+    force.gemv(1.0, &sys.d, &s.velocity, 0.0);
+    force.gemv_tr(1.0, &sys.branch_projection, branch_forces, 1.0);
+    if sys.keep_inf_mass {
+        force.gemv(-1.0, &sys.added_mass_inf, &s.acceleration, 1.0);
+    }
+    // -0.0 + 0.0 = +0.0: a force at rest reads 0, not -0.
+    force.add_scalar_mut(0.0);
+}
+
+/// The stored energy `1/2 z^T P z [+ 1/2 v^T A_inf v]` at state `s` (`work`: scratch, one
+/// entry per network state).
+pub(super) fn stored_energy(sys: &RadiationSystem, s: &ModelState, work: &mut DVector<f64>) -> f64 {
+    work.gemv(1.0, &sys.energy_weight, &s.network, 0.0);
+    let mut energy = 0.5 * s.network.dot(work);
+    if sys.keep_inf_mass {
+        energy += 0.5 * s.velocity.dot(&(&sys.added_mass_inf * &s.velocity));
+    }
+    energy
+}
 
 /// Outputs computed from the state.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,19 +83,8 @@ impl Model {
             return;
         }
         let s = &self.state;
-        let sys = &self.system;
         let out = &mut self.outputs;
-        sys.branch_force
-            .apply(s.network.as_slice(), self.branch_forces.as_mut_slice());
-        out.force.gemv(1.0, &sys.d, &s.velocity, 0.0);
-        out.force
-            .gemv_tr(1.0, &sys.branch_projection, &self.branch_forces, 1.0);
-        if sys.keep_inf_mass {
-            out.force
-                .gemv(-1.0, &sys.added_mass_inf, &s.acceleration, 1.0);
-        }
-        // -0.0 + 0.0 = +0.0: a force at rest reads 0, not -0.
-        out.force.add_scalar_mut(0.0);
+        radiation_force(&self.system, s, &mut self.branch_forces, &mut out.force);
         out.power = -out.force.dot(&s.velocity) + 0.0;
         out.radiation.copy_from(&out.force);
         match &mut self.sea {
@@ -89,18 +108,12 @@ impl Model {
         if let Some(e) = self.outputs.energy {
             return e;
         }
-        let s = &self.state;
-        let sys = &self.system;
-        self.work.gemv(1.0, &sys.energy_weight, &s.network, 0.0);
-        let mut energy = 0.5 * s.network.dot(&self.work);
-        if sys.keep_inf_mass {
-            energy += 0.5 * s.velocity.dot(&(&sys.added_mass_inf * &s.velocity));
-        }
+        let energy = stored_energy(&self.system, &self.state, &mut self.work);
         self.outputs.energy = Some(energy);
         energy
     }
 
-    /// Reads any variable.
+    /// Reads any variable; a value that is not finite is [`ModelError::NotFinite`].
     pub fn value(&mut self, quantity: Quantity) -> Result<f64, ModelError> {
         let n = self.dof_count();
         let v = match quantity {
@@ -139,10 +152,11 @@ impl Model {
             }
             other => return Err(ModelError::Variable(format!("{other:?} does not exist"))),
         };
-        Ok(v)
+        Model::finite(|| self.variable_name(quantity), v)
     }
 
-    /// All forces (n entries).
+    /// All forces (n entries), unchecked: where the inputs overflow an entry is not finite
+    /// ([`Model::value`] refuses it).
     pub fn forces(&mut self) -> &DVector<f64> {
         self.refresh();
         &self.outputs.force
@@ -151,8 +165,17 @@ impl Model {
     /// First time derivative of an output at the current time:
     /// `dF/dt = C (A z + B v) + D v' [- A_inf a']`, `d power/dt = -(F' . v + F . v')`,
     /// `d energy/dt` from the network equations; in waves the exciting force and the elevation
-    /// add their exact rates ([`crate::waves::Sea::evaluate_rate`]).
+    /// add their exact rates ([`crate::waves::Sea::evaluate_rate`]). Not finite:
+    /// [`ModelError::NotFinite`].
     pub fn output_derivative(&mut self, quantity: Quantity) -> Result<f64, ModelError> {
+        let rate = self.output_rate(quantity)?;
+        Model::finite(
+            || format!("the time derivative of {}", self.variable_name(quantity)),
+            rate,
+        )
+    }
+
+    fn output_rate(&mut self, quantity: Quantity) -> Result<f64, ModelError> {
         let n = self.dof_count();
         self.refresh();
         let s = &self.state;
@@ -194,12 +217,27 @@ impl Model {
 
     /// Partial derivative of an output or a calculated parameter with respect to a known (an
     /// input, rho or g) at the current state. Exact: the outputs are quadratic in the inputs
-    /// and sums of monomials in rho and g (see the module docs).
+    /// and sums of monomials in rho and g (see the module docs). Not finite:
+    /// [`ModelError::NotFinite`].
     pub fn partial_derivative(
         &mut self,
         of: Quantity,
         with_respect_to: Quantity,
     ) -> Result<f64, ModelError> {
+        let derivative = self.partial(of, with_respect_to)?;
+        Model::finite(
+            || {
+                format!(
+                    "d {} / d {}",
+                    self.variable_name(of),
+                    self.variable_name(with_respect_to)
+                )
+            },
+            derivative,
+        )
+    }
+
+    fn partial(&mut self, of: Quantity, with_respect_to: Quantity) -> Result<f64, ModelError> {
         let n = self.dof_count();
         let keep = self.system.keep_inf_mass;
         if matches!(with_respect_to, Quantity::Rho | Quantity::G) {

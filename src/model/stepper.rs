@@ -4,10 +4,12 @@
 //! z(t + h) = Phi z + Gamma0 (P v) + Gamma1 (P v'),   Phi = exp(A h)   (per branch block)
 //! ```
 //!
-//! The time after k equal steps is `anchor + k h` (no drift from repeated additions); a step
-//! must start at the component's time within [`TIME_TOLERANCE`].
+//! The time after k equal steps is `anchor + k h` (no drift from repeated additions), for k up
+//! to [`MAX_STEPS_SINCE_ANCHOR`] (then a new anchor); a step must start at the component's
+//! time within [`TIME_TOLERANCE`], and end within the f64 range and not past the stop time
+//! (the same tolerance).
 
-use super::{ModelError, ModelState, RadiationSystem, TIME_TOLERANCE};
+use super::{ModelError, ModelState, RadiationSystem, MAX_STEPS_SINCE_ANCHOR, TIME_TOLERANCE};
 use crate::discretize::BlockDiscretizationCache;
 use nalgebra::{DMatrix, DVector};
 use std::ops::Not;
@@ -70,6 +72,28 @@ impl Stepper {
                 state.time
             )));
         }
+        // The time at the end: the count of equal steps goes on while it stays exact.
+        let (anchor, steps) = if h.to_bits() == state.last_step.to_bits()
+            && (1..MAX_STEPS_SINCE_ANCHOR).contains(&state.steps_since_anchor)
+        {
+            (state.time_anchor, state.steps_since_anchor + 1)
+        } else {
+            (current, 1)
+        };
+        let time = anchor + steps as f64 * h;
+        if !time.is_finite() {
+            return Err(ModelError::Step(format!(
+                "the step from time {current:e} by {h:e} ends at {time}, beyond the f64 range"
+            )));
+        }
+        if let Some(stop) = state.stop_time {
+            if time > stop + TIME_TOLERANCE * stop.abs().max(h) {
+                return Err(ModelError::Step(format!(
+                    "the step from time {current} by {h} ends at {time}, past the stop time \
+                     {stop} set by fmi2SetupExperiment"
+                )));
+            }
+        }
         // The network state is checked through `next` below; the inputs here.
         let inputs = [
             &state.velocity,
@@ -131,14 +155,10 @@ impl Stepper {
                 .acceleration
                 .axpy(h, &state.acceleration_derivative, 1.0);
         }
-        if h.to_bits() == state.last_step.to_bits() && state.steps_since_anchor > 0 {
-            state.steps_since_anchor += 1;
-        } else {
-            state.time_anchor = current;
-            state.last_step = h;
-            state.steps_since_anchor = 1;
-        }
-        state.time = state.time_anchor + state.steps_since_anchor as f64 * h;
+        state.time_anchor = anchor;
+        state.last_step = h;
+        state.steps_since_anchor = steps;
+        state.time = time;
         Ok(())
     }
 }

@@ -36,6 +36,12 @@ pub(crate) fn two_dof_substructure_network() -> String {
     TWO_DOF_NETWORK.replace("</network>", &format!("{SUBSTRUCTURE}</network>"))
 }
 
+/// An exciting force table for [`TWO_DOF_NETWORK`] (R = 2 m, head seas, kR 0.1 .. 1).
+pub(crate) const TWO_DOF_EXCITATION: &str = "# modes: sway roll\n# convention: exp(+i omega t)\n\
+     # R: 2 m\n# length exponents: 0 1\nkR,j,heading,re,im\n\
+     0.1,1,0,0.1,0.2\n0.1,2,0,0.3,-0.1\n0.5,1,0,0.4,-0.25\n0.5,2,0,-0.2,0.6\n\
+     1,1,0,0.2,0.1\n1,2,0,0.1,0.1\n";
+
 /// The component of a network text, at the default rho and g, with the default GUID.
 pub(crate) fn model(network: &str, keep_inf_mass: bool) -> Model {
     let network = Network::from_xml_str(network, "test.xml").unwrap();
@@ -192,10 +198,7 @@ fn resources_with_a_hull_and_an_excitation_table_give_hydrostatics_and_checked_w
 #[test]
 fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
     use crate::fmu::variables::WaveParameter;
-    let table = "# modes: sway roll\n# convention: exp(+i omega t)\n# R: 2 m\n\
-                 # length exponents: 0 1\nkR,j,heading,re,im\n\
-                 0.1,1,0,0.1,0.2\n0.1,2,0,0.3,-0.1\n0.5,1,0,0.4,-0.25\n0.5,2,0,-0.2,0.6\n\
-                 1,1,0,0.2,0.1\n1,2,0,0.1,0.1\n";
+    let table = TWO_DOF_EXCITATION;
     let resources = Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false))
         .unwrap()
         .with_excitation(Some(table.into()));
@@ -288,4 +291,98 @@ fn a_regular_wave_adds_the_tables_force_and_calm_water_changes_nothing() {
     m.set_wave_integer(WaveParameter::Kind, 2).unwrap();
     let err = m.start_waves().unwrap_err().to_string();
     assert!(err.contains("without an excitation table"), "{err}");
+}
+
+#[test]
+fn outputs_that_overflow_are_errors_and_change_nothing() {
+    // rho = g = 1e100, v = 1e100 m/s: each accepted; the force -c1 rho sqrt(g) v = -1e250
+    // N/m is finite, power = -F v and its derivatives overflow.
+    let mut m = seed(1e100, 1e100);
+    m.set_value(Quantity::Velocity(0), 1e100).unwrap();
+    let before = m.state().clone();
+    assert!(m.value(Quantity::Force(0)).unwrap().is_finite());
+    for result in [
+        m.value(Quantity::Power),
+        m.output_derivative(Quantity::Power),
+        m.partial_derivative(Quantity::Power, Quantity::Rho),
+    ] {
+        let err = result.unwrap_err().to_string();
+        assert!(err.contains("power") && err.contains("not finite"), "{err}");
+    }
+    assert_eq!(m.state(), &before);
+    // A moderate input reads again.
+    m.set_value(Quantity::Velocity(0), 1.0).unwrap();
+    assert!(m.value(Quantity::Power).unwrap().is_finite());
+}
+
+#[test]
+fn a_parameter_change_whose_hydrostatic_stiffness_overflows_is_refused() {
+    // C / (rho g) of 1e120 (a hull of 1e40 m) times rho g = 1e200 overflows.
+    let mut m = model(TWO_DOF_NETWORK, false);
+    m.hydrostatics_per_rho_g = Some(DMatrix::from_element(2, 2, 1e120));
+    let err = m.set_parameters(1e100, 1e100).unwrap_err().to_string();
+    assert!(err.contains("stiffness_hydrostatic"), "{err}");
+    assert_eq!((m.state().rho, m.state().g), (DEFAULT_RHO, DEFAULT_G));
+    assert_eq!(m.system().rho(), DEFAULT_RHO);
+    m.set_parameters(1e90, 1.0).unwrap();
+    let c = m.value(Quantity::StiffnessHydrostatic(0, 1)).unwrap();
+    assert_eq!(c, 1e210);
+}
+
+#[test]
+fn a_step_whose_end_time_overflows_is_refused() {
+    // From the largest f64, a step of 1e300 s (discretized without trouble) ends past it.
+    let mut m = seed(1.0, 1.0);
+    m.set_start_time(f64::MAX).unwrap();
+    let before = m.state().clone();
+    let err = m.step(f64::MAX, 1e300).unwrap_err().to_string();
+    assert!(err.contains("time"), "{err}");
+    assert_eq!(m.state(), &before);
+    m.set_start_time(1e308).unwrap();
+    m.step(1e308, 1e300).unwrap();
+    assert_eq!(m.time(), 1e308 + 1e300);
+}
+
+#[test]
+fn the_step_counter_starts_a_new_anchor_before_it_loses_exactness() {
+    // 2^53 steps of 0.25 s from -2^51 s end at 0. One more counted from that anchor would be
+    // (2^53 + 1) as f64 = 2^53 steps: the time would stay at 0.
+    let mut m = seed(1.0, 1.0);
+    let mut state = m.state().clone();
+    state.time_anchor = -(2f64.powi(51));
+    state.start_time = state.time_anchor;
+    state.last_step = 0.25;
+    state.steps_since_anchor = 1 << 53;
+    state.time = 0.0;
+    m.set_state(state).unwrap();
+    m.step(0.0, 0.25).unwrap();
+    assert_eq!(m.time(), 0.25);
+    m.step(0.25, 0.25).unwrap();
+    assert_eq!(m.time(), 0.5);
+}
+
+#[test]
+fn a_step_past_the_stop_time_is_refused_and_reset_clears_it() {
+    let mut m = seed(1.0, 1.0);
+    assert!(m.set_experiment(2.0, Some(1.0)).is_err());
+    assert!(m.set_experiment(0.0, Some(f64::NAN)).is_err());
+    assert!(m.set_experiment(f64::NAN, None).is_err());
+    // +inf: no stop time.
+    m.set_experiment(0.0, Some(f64::INFINITY)).unwrap();
+    assert_eq!(m.state().stop_time, None);
+    m.set_experiment(0.0, Some(1.0)).unwrap();
+    m.set_value(Quantity::Velocity(0), 1.0).unwrap();
+    // Ten steps of 0.1 end at 1 to rounding (1e-10 of the larger of the stop time and h).
+    let mut t = 0.0;
+    for _ in 0..10 {
+        m.step(t, 0.1).unwrap();
+        t += 0.1;
+    }
+    let end = m.state().clone();
+    let err = m.step(m.time(), 1e-9).unwrap_err().to_string();
+    assert!(err.contains("past the stop time 1"), "{err}");
+    assert_eq!(m.state(), &end);
+    m.reset().unwrap();
+    assert_eq!(m.state().stop_time, None);
+    m.step(0.0, 5.0).unwrap();
 }

@@ -27,9 +27,11 @@
 //!   `spring_incidence` (Ns rows of Nm + n numbers), `spring_relaxation` (Ns rows of Ns) and
 //!   `damping` (Nm + n rows of Nm + n), each as `row` elements.
 //!
-//! Units: SI per unit hull length; a DOF's generalized units carry into the matrices. Comments
-//! are allowed anywhere; anything else unknown (elements, attributes, text) is an error that
-//! names the file and line. The full description is `docs/NETWORK_FORMAT.md`.
+//! Units: SI per unit hull length; a DOF's generalized units carry into the matrices. Every
+//! number is at most [`MAX_COEFFICIENT`] (1e100) in magnitude, and `rho`, `g` at least its
+//! inverse (see there). Comments are allowed anywhere; anything else unknown (elements,
+//! attributes, text) is an error that names the file and line. The full description is
+//! `docs/NETWORK_FORMAT.md`.
 
 use std::path::Path;
 
@@ -138,9 +140,80 @@ impl Network {
         let located = |e: XmlError| fail(Some(e.line), e.message);
         let root = xml::parse(text).map_err(located)?;
         let network = network_from_tree(&root).map_err(located)?;
+        // Magnitudes first: the rules' eigenvalues then see no overflowing squares.
+        check_magnitudes(&network).map_err(|m| fail(None, m))?;
         network.validate().map_err(|e| fail(None, e.to_string()))?;
         Ok(network)
     }
+}
+
+/// Largest magnitude of a number in a network file, and the inverse of the smallest `rho` and
+/// `g`. Generous: the shipped networks (`examples/networks`) hold magnitudes from 3e-23 to
+/// 2e17. It keeps the products the component forms from a few coefficients finite (the
+/// realization `M^-1 K`, the eigenvalues of `A_inf`, the matrix exponential of a step, `C z`,
+/// `z^T P z` at moderate states): a stiffness of 1e250 N/m^2 read as it was gave an infinite
+/// energy after one step. Products with extreme rho, g and inputs can still overflow; the
+/// component reports those as errors where they occur.
+pub const MAX_COEFFICIENT: f64 = 1e100;
+
+/// Refuses a network with a number beyond [`MAX_COEFFICIENT`] (or a reference `rho`, `g`
+/// below its inverse), naming it.
+fn check_magnitudes(network: &Network) -> Result<(), String> {
+    let beyond = |x: f64| x.abs() > MAX_COEFFICIENT;
+    let refuse = |what: String, x: f64| {
+        Err(format!(
+            "{what} = {x:e} exceeds {MAX_COEFFICIENT:e} in magnitude (the limit of network files)"
+        ))
+    };
+    for (name, x) in [("rho", network.rho), ("g", network.g)] {
+        if beyond(x) || x < 1.0 / MAX_COEFFICIENT {
+            return Err(format!(
+                "{name} = {x:e} is outside {:e} .. {MAX_COEFFICIENT:e} (the limit of network files)",
+                1.0 / MAX_COEFFICIENT
+            ));
+        }
+    }
+    let matrix = |name: &str, m: &DMatrix<f64>| -> Result<(), String> {
+        match m.iter().enumerate().find(|(_, x)| beyond(**x)) {
+            Some((k, x)) => refuse(
+                format!("{name}[{},{}]", k % m.nrows() + 1, k / m.nrows() + 1),
+                *x,
+            ),
+            None => Ok(()),
+        }
+    };
+    matrix("added_mass_inf", &network.added_mass_inf)?;
+    for (ib, branch) in network.branches.iter().enumerate() {
+        if let Some((j, x)) = branch
+            .direction
+            .iter()
+            .enumerate()
+            .find(|(_, x)| beyond(**x))
+        {
+            return refuse(format!("branch {}: direction[{}]", ib + 1, j + 1), *x);
+        }
+        for (is, stage) in branch.stages.iter().enumerate() {
+            for (what, x) in [
+                ("mass", stage.mass),
+                ("stiffness", stage.stiffness),
+                ("damping", stage.damping),
+            ] {
+                if beyond(x) {
+                    return refuse(format!("branch {}, stage {}: {what}", ib + 1, is + 1), x);
+                }
+            }
+        }
+    }
+    for (k, sub) in network.substructures.iter().enumerate() {
+        for (name, m) in [
+            ("spring_incidence", &sub.spring_incidence),
+            ("spring_relaxation", &sub.spring_relaxation),
+            ("damping", &sub.damping),
+        ] {
+            matrix(&format!("substructure {}: {name}", k + 1), m)?;
+        }
+    }
+    Ok(())
 }
 
 /// Network files write numbers in [`Notation::Plain`].

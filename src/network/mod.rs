@@ -49,6 +49,7 @@
 mod file;
 mod substructure;
 
+pub use file::MAX_COEFFICIENT;
 pub use substructure::{ImpedanceRealization, Substructure};
 
 use std::fmt;
@@ -492,7 +493,8 @@ fn check_symmetric_psd(name: &str, m: &DMatrix<f64>, tolerance: f64) -> Result<(
         return Ok(());
     }
     let min_eigen = m.clone().symmetric_eigenvalues().min();
-    if min_eigen < -tolerance * scale {
+    // NaN (an eigenvalue computation that overflowed) fails too.
+    if min_eigen.is_nan() || min_eigen < -tolerance * scale {
         return Err(format!(
             "{name} is not positive semi-definite (smallest eigenvalue {min_eigen:e})"
         ));

@@ -330,3 +330,40 @@ fn seed_example_file_holds_the_seed_network() {
     let net = Network::from_file(&path).unwrap();
     assert_eq!(net, seed_network());
 }
+
+#[test]
+fn coefficients_beyond_the_magnitude_limit_are_refused_naming_them() {
+    // One stage of the seed network's form, with one number replaced.
+    let text = |m: &str, k: &str, c: &str, a_inf: &str, direction: &str, rho: &str| {
+        format!(
+            r#"<network format_version="1" form="series_chain" rho="{rho}" g="1">
+  <dof name="sway"/>
+  <added_mass_inf><row>{a_inf}</row></added_mass_inf>
+  <branch><direction>{direction}</direction><stage mass="{m}" stiffness="{k}" damping="{c}"/></branch>
+</network>"#
+        )
+    };
+    let cases = [
+        (text("1e154", "1", "1", "1", "1", "1"), "mass"),
+        (text("1", "1e250", "1", "1", "1", "1"), "stiffness"),
+        (text("1", "1", "1e154", "1", "1", "1"), "damping"),
+        (text("1", "1", "1", "1e250", "1", "1"), "added_mass_inf"),
+        (text("1", "1", "1", "1", "-1e154", "1"), "direction"),
+        (text("1", "1", "1", "1", "1", "1e-300"), "rho"),
+    ];
+    // A diagonal entry of a substructure's damping (symmetric, positive definite).
+    let substructure = crate::model::tests::two_dof_substructure_network()
+        .replace("<row>0.5 -0.2 0.1</row>", "<row>1e200 -0.2 0.1</row>");
+    let cases = cases
+        .into_iter()
+        .chain([(substructure, "substructure 1: damping[1,1]")]);
+    for (network, expected) in cases {
+        let err = Network::from_xml_str(&network, "n.xml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(expected) && err.contains("1e100"), "{err}");
+    }
+    // At the limit, accepted.
+    let edge = text("1e100", "1e-100", "1e100", "1e100", "1e100", "1e100");
+    Network::from_xml_str(&edge, "n.xml").unwrap();
+}

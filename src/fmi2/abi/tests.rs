@@ -786,6 +786,58 @@ fn serialized_state_restores_in_another_instance() {
 }
 
 #[test]
+fn hostile_state_bytes_and_steps_past_the_stop_time_get_fmi2error() {
+    use crate::model::{tampered, StateField};
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log = Log::default();
+    let f = callbacks(&log);
+    let c = instantiate(&fmu, &fmu.uri(), &f, false);
+    assert!(!c.is_null());
+    // SAFETY: see the module docs.
+    unsafe {
+        // stopTimeDefined = fmi2True, stopTime = 1: a step to 1.5 is an error.
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 1, 1.0), fmi2OK);
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.5, 0), fmi2OK);
+        let mut st: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(c, &mut st), fmi2OK);
+        assert_eq!(fmi2DoStep(c, 0.5, 1.0, 0), fmi2Error);
+        assert_eq!(phase(c), Phase::Error);
+        assert_eq!(fmi2SetFMUstate(c, st), fmi2OK);
+        let mut size = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(c, st, &mut size), fmi2OK);
+        let mut bytes = vec![0u8; size];
+        let out = bytes.as_mut_ptr() as *mut c_char;
+        assert_eq!(fmi2SerializeFMUstate(c, st, out, size), fmi2OK);
+        // A step counter of 2^64 - 1 with the checksum recomputed: refused, and the state
+        // given to fill is kept.
+        let model = (*(c as *const Component)).instance.model();
+        let bad = tampered(model, &bytes, StateField::Steps, u64::MAX.to_le_bytes());
+        let input = bad.as_ptr() as *const c_char;
+        assert_eq!(fmi2DeSerializeFMUstate(c, input, size, &mut st), fmi2Error);
+        assert!(!st.is_null());
+        assert_eq!(fmi2SetFMUstate(c, st), fmi2OK);
+        let mut time = 0.0;
+        assert_eq!(
+            fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &mut time),
+            fmi2OK
+        );
+        assert_eq!(time, 0.5);
+        assert_eq!(fmi2DoStep(c, 0.5, 0.5, 0), fmi2OK);
+        assert_eq!(fmi2FreeFMUstate(c, &mut st), fmi2OK);
+        fmi2FreeInstance(c);
+    }
+    let log = log.lock().unwrap();
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.contains("past the stop time 1")),
+        "{log:?}"
+    );
+    assert!(log.iter().any(|(_, _, m)| m.contains("steps")), "{log:?}");
+}
+
+#[test]
 fn input_derivatives_give_first_order_hold() {
     // A ramp via derivatives over one step equals the same ramp over ten steps.
     let fmu = Unpacked::new(TWO_DOF_NETWORK, true, "resources");

@@ -503,3 +503,144 @@ fn wave_parameters_are_set_by_type_before_initialization_ends_and_refusals_chang
         "{messages:?}"
     );
 }
+
+#[test]
+fn refused_state_bytes_leave_the_instance_and_the_target_state_as_they_were() {
+    use crate::model::{tampered, StateField};
+    let mut inst = ready(SEED_NETWORK, false);
+    assert_eq!(inst.set_real(&[VELOCITY], &[0.4]), Status::Ok);
+    assert_eq!(inst.do_step(0.0, 0.25, false), Status::Ok);
+    assert_eq!(inst.do_step(0.25, 0.25, false), Status::Ok);
+    let mut saved = None;
+    assert_eq!(inst.get_fmu_state(&mut saved), Status::Ok);
+    let mut size = 0;
+    let snapshot = saved.clone().unwrap();
+    assert_eq!(
+        inst.serialized_fmu_state_size(&snapshot, &mut size),
+        Status::Ok
+    );
+    let mut bytes = vec![0; size];
+    assert_eq!(inst.serialize_fmu_state(&snapshot, &mut bytes), Status::Ok);
+    let before = inst.model().state().clone();
+    let reference = get(&mut inst, &[FORCE, POWER, ENERGY]);
+    let cases = [
+        (StateField::Steps, u64::MAX.to_le_bytes(), "steps"),
+        (StateField::Steps, (1u64 << 53).to_le_bytes(), "steps"),
+        (StateField::Time, f64::NAN.to_le_bytes(), "time is NaN"),
+        // At rho = g = 1 the first spring is 0.2339: energy 1e611 J/m.
+        (StateField::Network(0), 1e306f64.to_le_bytes(), "energy"),
+    ];
+    for (field, value, expected) in cases {
+        let bad = tampered(inst.model(), &bytes, field, value);
+        let mut target = saved.clone();
+        inst.take_messages();
+        assert_eq!(
+            inst.deserialize_fmu_state(&bad, &mut target),
+            Status::Error,
+            "{field:?}"
+        );
+        let messages = inst.take_messages();
+        assert!(
+            messages.iter().any(|m| m.text.contains(expected)),
+            "{field:?}: {messages:?}"
+        );
+        // The target still holds the saved state, and restores the instance from the error.
+        assert_eq!(inst.set_fmu_state(target.as_ref().unwrap()), Status::Ok);
+        assert_eq!(inst.phase(), Phase::StepComplete);
+        assert_eq!(inst.model().state(), &before, "{field:?}");
+        assert_eq!(get(&mut inst, &[FORCE, POWER, ENERGY]), reference);
+    }
+    // The untouched bytes still restore.
+    let mut target = None;
+    assert_eq!(inst.deserialize_fmu_state(&bytes, &mut target), Status::Ok);
+}
+
+#[test]
+fn a_defined_stop_time_ends_the_run_until_reset() {
+    let initialized = |inst: &mut Instance, stop: Option<f64>| {
+        assert_eq!(inst.setup_experiment(None, 0.0, stop), Status::Ok);
+        assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+        assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+        inst.take_messages();
+    };
+    let mut inst = instance(SEED_NETWORK, false);
+    initialized(&mut inst, Some(1.0));
+    assert_eq!(inst.set_real(&[VELOCITY], &[0.4]), Status::Ok);
+    assert_eq!(inst.do_step(0.0, 0.5, false), Status::Ok);
+    let mut saved = None;
+    assert_eq!(inst.get_fmu_state(&mut saved), Status::Ok);
+    let saved = saved.unwrap();
+    let at_half = inst.model().state().clone();
+    // A step past the stop time is an error (FMI 2.0, fmi2SetupExperiment); nothing moves.
+    assert_eq!(inst.do_step(0.5, 1.0, false), Status::Error);
+    let messages = inst.take_messages();
+    assert!(
+        messages.iter().any(|m| m.text.contains("stop time 1")),
+        "{messages:?}"
+    );
+    assert_eq!(inst.model().state(), &at_half);
+    // A step that ends at the stop time to rounding is fine (time tolerance 1e-10).
+    assert_eq!(inst.set_fmu_state(&saved), Status::Ok);
+    assert_eq!(inst.do_step(0.5, 0.5 + 5e-11, false), Status::Ok);
+    let end = inst.model().time();
+    assert_eq!(inst.do_step(end, 1e-3, false), Status::Error);
+    // The stop time is part of the FMU state: restored with it, also in another instance.
+    let mut other = instance(SEED_NETWORK, false);
+    initialized(&mut other, None);
+    assert_eq!(other.set_fmu_state(&saved), Status::Ok);
+    assert_eq!(other.do_step(0.5, 0.6, false), Status::Error);
+    // fmi2Reset forgets it: without a stop time any step is allowed.
+    assert_eq!(inst.reset(), Status::Ok);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+    assert_eq!(inst.do_step(0.0, 1.5, false), Status::Ok);
+}
+
+#[test]
+fn no_value_leaves_with_ok_unless_it_is_finite() {
+    // rho = g = 1e100 and a velocity of 1e100 m/s are each accepted (MAX_INPUT); the force
+    // -c1 rho sqrt(g) v = -1e250 N/m is finite, the power F v is not.
+    let mut inst = instance(SEED_NETWORK, false);
+    assert_eq!(inst.set_real(&[VR_RHO, VR_G], &[1e100, 1e100]), Status::Ok);
+    assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+    assert_eq!(inst.set_real(&[VELOCITY], &[1e100]), Status::Ok);
+    let mut saved = None;
+    assert_eq!(inst.get_fmu_state(&mut saved), Status::Ok);
+    let saved = saved.unwrap();
+    inst.take_messages();
+    let force = get(&mut inst, &[FORCE])[0];
+    assert!(force.is_finite() && force < -1e249, "{force}");
+    let mut out = [0.0; 2];
+    assert_eq!(inst.get_real(&[FORCE, POWER], &mut out), Status::Error);
+    let messages = inst.take_messages();
+    assert!(
+        messages.iter().any(|m| m.text.contains("power")),
+        "{messages:?}"
+    );
+    // d power / dt and a directional derivative seeded with 1e300 overflow too.
+    assert_eq!(inst.set_fmu_state(&saved), Status::Ok);
+    let mut rate = [0.0];
+    assert_eq!(
+        inst.get_real_output_derivatives(&[POWER], &[1], &mut rate),
+        Status::Error
+    );
+    assert_eq!(inst.set_fmu_state(&saved), Status::Ok);
+    let mut d = [0.0];
+    assert_eq!(
+        inst.get_directional_derivative(&[FORCE], &[VELOCITY], &[1e300], &mut d),
+        Status::Error
+    );
+    let messages = inst.take_messages();
+    assert!(
+        messages.iter().any(|m| m.text.contains("force.sway")),
+        "{messages:?}"
+    );
+    // Once the input is moderate again, everything reads.
+    assert_eq!(inst.set_fmu_state(&saved), Status::Ok);
+    assert_eq!(inst.set_real(&[VELOCITY], &[1.0]), Status::Ok);
+    assert!(get(&mut inst, &[FORCE, POWER, ENERGY])
+        .iter()
+        .all(|x| x.is_finite()));
+}
