@@ -182,7 +182,7 @@ impl SweepParams {
 }
 
 /// The panel counts of every level: 1 ..= [`MAX_EXTRAPOLATION_LEVELS`] levels, the finest
-/// within [`crate::panels::MAX_BODY_PANELS`], the coarsest with at least 4 panels.
+/// within 4 ..= [`crate::panels::MAX_BODY_PANELS`], the coarsest with at least 4 panels.
 fn check_levels(panels: &PanelParams, levels: usize) -> Result<(), SweepError> {
     if levels == 0 {
         return Err(SweepError::NoLevels);
@@ -192,6 +192,11 @@ fn check_levels(panels: &PanelParams, levels: usize) -> Result<(), SweepError> {
             limit: SizeLimit::ExtrapolationLevels,
             requested: levels,
         });
+    }
+    if panels.body_panels < 4 {
+        return Err(SweepError::Mesh(PanelError::TooFewPanels {
+            requested: panels.body_panels,
+        }));
     }
     if panels.body_panels > panels::MAX_BODY_PANELS {
         return Err(SweepError::Mesh(PanelError::TooManyPanels {
