@@ -383,6 +383,33 @@ fn geometry_that_cannot_give_meaningful_numbers_is_refused_with_file_and_line() 
             r.stderr
         );
     }
+    // A contour of 100,000 points: refused at once (its pairwise checks took minutes).
+    let many = dir.join("many.xml");
+    let mut text = String::from("<hull name=\"many\" half_beam=\"1\">\n<contour>\n");
+    let n = 100_000;
+    for i in 0..n {
+        let t = std::f64::consts::PI * i as f64 / (n - 1) as f64;
+        let (x, y) = match i {
+            0 => (-1.0, 0.0),
+            _ if i == n - 1 => (1.0, 0.0),
+            _ => (-t.cos(), -t.sin()),
+        };
+        text.push_str(&format!("<point x=\"{x:e}\" y=\"{y:e}\"/>\n"));
+    }
+    text.push_str("</contour>\n<rigid name=\"heave\" kind=\"heave\"/>\n</hull>\n");
+    std::fs::write(&many, text).unwrap();
+    let file = many.to_str().unwrap();
+    let start = Instant::now();
+    let r = run(&["sweep", file, "--kr", "0.5:1:3", "-o", "/dev/null"]);
+    r.assert_clean_exit(1, file);
+    assert!(
+        r.stderr.contains(&format!(
+            "{file}:2: the contour has 100000 points; at most 8192"
+        )),
+        "{}",
+        r.stderr
+    );
+    assert!(start.elapsed() < Duration::from_secs(10));
     // Within the bounds the same section sweeps, and every number in the table is finite.
     let fine = box_hull(&dir, "fine.xml", "2", "0.5", 1.0);
     let mut args = vec![

@@ -9,7 +9,7 @@ use super::builtin::check_circle_depth;
 use super::validate::{knots, validate_polyline};
 use super::{
     check_coordinates, check_half_beam_ratio, check_length, craig_bampton_coefficients, Contour,
-    Dof, Field, Hull, HullError, Point, RigidKind, MAX_DOFS, MIN_LENGTH,
+    Dof, Field, Hull, HullError, Point, RigidKind, MAX_CONTOUR_POINTS, MAX_DOFS, MIN_LENGTH,
 };
 use crate::xml::{self, escape, Element, Notation, XmlError};
 use std::path::Path;
@@ -262,6 +262,17 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     }
                 };
                 child.only_attributes(&["closed"]).map_err(at)?;
+                if child.children.len() > MAX_CONTOUR_POINTS {
+                    return Err(err(
+                        line,
+                        format!(
+                            "the contour has {} points; at most {MAX_CONTOUR_POINTS} (each \
+                             point becomes a panel node, and the panel count is limited to \
+                             {MAX_CONTOUR_POINTS})",
+                            child.children.len()
+                        ),
+                    ));
+                }
                 let (points, lines) = vectors(child, "point", source)?;
                 for (p, &line) in points.iter().zip(&lines) {
                     check_coordinates("point", *p).map_err(|m| err(line, m))?;

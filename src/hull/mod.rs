@@ -33,7 +33,7 @@
 //! overflow and 1e-160 squared underflow to zero. The half-beam, which only makes the results
 //! nondimensional, lies within a factor [`MAX_HALF_BEAM_RATIO`] of the section's size either
 //! way. A hull has at most [`MAX_DOFS`] DOFs: the sweep's matrices grow with their square and
-//! the network fit with their cube.
+//! the network fit with their cube; a contour at most [`MAX_CONTOUR_POINTS`] points.
 //!
 //! # Where things are
 //! * `builtin.rs`: [`Hull::semicircle`] and [`Hull::circle`], exact arcs with analytic fields;
@@ -70,6 +70,11 @@ pub const MAX_HALF_BEAM_RATIO: f64 = 1e3;
 
 /// Most DOFs of a hull.
 pub const MAX_DOFS: usize = 256;
+
+/// Most points of a `<contour>`: every point becomes a panel node, so a contour with more
+/// points than [`crate::panels::MAX_BODY_PANELS`] could never be swept, and the contour checks
+/// compare every pair of segments (a 200,000-point contour kept them busy for minutes).
+pub const MAX_CONTOUR_POINTS: usize = crate::panels::MAX_BODY_PANELS;
 
 /// A number as messages print it (plain digits, or an exponent far from 1).
 fn plain(x: f64) -> String {

@@ -632,3 +632,27 @@ fn a_hull_past_the_bounds_gives_no_non_finite_number() {
         }
     }
 }
+
+#[test]
+fn rejects_contours_with_more_points_than_panels() {
+    let arc = |n: usize| -> Vec<Point> {
+        (0..n)
+            .map(|i| {
+                let t = std::f64::consts::PI * i as f64 / (n - 1) as f64;
+                match i {
+                    0 => [-1.0, 0.0],
+                    _ if i == n - 1 => [1.0, 0.0],
+                    _ => [-t.cos(), -t.sin()],
+                }
+            })
+            .collect()
+    };
+    Hull::from_xml_str(&hull_xml(&arc(8192), false), "fine.xml").unwrap();
+    let start = std::time::Instant::now();
+    expect_error(
+        &hull_xml(&arc(8193), false),
+        Some(2),
+        "the contour has 8193 points; at most 8192",
+    );
+    assert!(start.elapsed() < std::time::Duration::from_secs(5));
+}
