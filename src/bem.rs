@@ -63,6 +63,7 @@
 
 use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral};
 use crate::panels::{Mesh, Panel};
+use crate::xml::{format_number, Notation};
 use faer::complex_native::c64;
 use faer::dyn_stack::{GlobalPodBuffer, PodStack};
 use faer::reborrow::ReborrowMut;
@@ -162,6 +163,26 @@ pub enum BemError {
         /// The free-surface condition of the solve.
         surface: FreeSurface,
     },
+    /// Every level was finite but their extrapolation to zero panel size is not (see
+    /// [`crate::sweep::Solver`]).
+    NonFiniteExtrapolation {
+        /// The free-surface condition of the solve.
+        surface: FreeSurface,
+        /// The discretization levels extrapolated.
+        levels: usize,
+    },
+}
+
+/// The free-surface condition in words, for messages.
+pub fn describe_surface(surface: FreeSurface) -> String {
+    match surface {
+        FreeSurface::RigidLid => "the zero-frequency limit (rigid lid)".to_string(),
+        FreeSurface::Dirichlet => "the infinite-frequency limit".to_string(),
+        FreeSurface::Wave { wavenumber } => format!(
+            "the wavenumber {} 1/m",
+            format_number(wavenumber, Notation::Plain)
+        ),
+    }
 }
 
 impl fmt::Display for BemError {
@@ -175,9 +196,20 @@ impl fmt::Display for BemError {
                 lid_panels,
             } => write!(
                 f,
-                "singular influence matrix for {surface:?} ({body_panels} body and {lid_panels} lid panels)"
+                "singular influence matrix at {} ({body_panels} body and {lid_panels} lid panels)",
+                describe_surface(*surface)
             ),
-            BemError::NonFinite { surface } => write!(f, "non-finite added mass or exciting force for {surface:?}"),
+            BemError::NonFinite { surface } => write!(
+                f,
+                "non-finite added mass or exciting force at {}",
+                describe_surface(*surface)
+            ),
+            BemError::NonFiniteExtrapolation { surface, levels } => write!(
+                f,
+                "non-finite added mass or exciting force at {} after the extrapolation of \
+                 {levels} discretization levels to zero panel size",
+                describe_surface(*surface)
+            ),
         }
     }
 }

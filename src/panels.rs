@@ -27,6 +27,7 @@
 //! same clustering toward the corners.
 
 use crate::hull::Hull;
+use crate::xml::{format_number, Notation};
 use nalgebra::DMatrix;
 use std::fmt;
 
@@ -96,6 +97,19 @@ pub const GAP_FRACTION: f64 = 0.125;
 
 /// Upper bound of the automatic panel count of [`PanelParams::for_hull`].
 pub const MAX_AUTOMATIC_PANELS: usize = 1024;
+
+/// Most body panels [`discretize`] accepts. The panel method's system is dense: memory grows
+/// as `N^2` and the factorization as `N^3`. Measured for one frequency on one thread
+/// (semicircle, no extrapolation, 2 cores): 1024 panels 1.5 s and 0.11 GB, 2048 panels 11 s
+/// and 0.43 GB, 4096 panels 43 s and 1.7 GB; 8192 panels therefore need about 7 GB and
+/// minutes per frequency and thread, and 16384 about 27 GB, more than the 24 GB machines the
+/// project is run on.
+pub const MAX_BODY_PANELS: usize = 8192;
+
+/// Most interior lid panels [`discretize`] accepts (they join the body panels in the dense
+/// system, see [`MAX_BODY_PANELS`]). The default lid density gives fewer than half as many lid
+/// panels as body panels, so only a raised [`PanelParams::lid_density`] can reach it.
+pub const MAX_LID_PANELS: usize = 4096;
 
 /// One straight constant-strength source panel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -195,6 +209,18 @@ pub enum PanelError {
         /// The requested body panel count.
         requested: usize,
     },
+    /// More body panels than [`MAX_BODY_PANELS`] requested.
+    TooManyPanels {
+        /// The requested body panel count.
+        requested: usize,
+    },
+    /// The lid density asks for more lid panels than [`MAX_LID_PANELS`].
+    TooManyLidPanels {
+        /// The lid panel count the density gives (before rounding, it may exceed any integer).
+        requested: f64,
+        /// The lid density.
+        lid_density: f64,
+    },
     /// The clustering parameter lies outside [0, 1].
     Clustering(f64),
     /// The lid density is not finite and positive.
@@ -217,6 +243,22 @@ impl fmt::Display for PanelError {
             PanelError::TooFewPanels { requested } => {
                 write!(f, "{requested} panels requested; at least 4 are needed")
             }
+            PanelError::TooManyPanels { requested } => write!(
+                f,
+                "{requested} panels requested; at most {MAX_BODY_PANELS} (the dense panel system \
+                 needs memory growing as N^2 and time as N^3: about 7 GB and minutes per \
+                 frequency at the limit)"
+            ),
+            PanelError::TooManyLidPanels {
+                requested,
+                lid_density,
+            } => write!(
+                f,
+                "lid density {} gives {} lid panels; at most {MAX_LID_PANELS} (they join the \
+                 dense panel system)",
+                format_number(*lid_density, Notation::Plain),
+                format_number(requested.ceil(), Notation::Plain)
+            ),
             PanelError::Clustering(c) => write!(f, "clustering {c} is outside [0, 1]"),
             PanelError::LidDensity(d) => write!(f, "lid density {d} must be positive"),
             PanelError::UnresolvedCorners { panels, corners } => write!(
@@ -287,11 +329,18 @@ fn snap_to_breakpoints(nodes: &mut [f64], breakpoints: &[f64]) {
 /// Discretizes `hull` into panels.
 ///
 /// # Errors
-/// Fewer than 4 body panels, a clustering outside [0, 1], a nonpositive lid density, or a
-/// contour that degenerates into zero-length panels.
+/// Fewer than 4 or more than [`MAX_BODY_PANELS`] body panels, a clustering outside [0, 1], a
+/// nonpositive lid density or one that gives more than [`MAX_LID_PANELS`] lid panels, or a
+/// contour that degenerates into zero-length panels. The counts are checked before anything
+/// is allocated.
 pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError> {
     if params.body_panels < 4 {
         return Err(PanelError::TooFewPanels {
+            requested: params.body_panels,
+        });
+    }
+    if params.body_panels > MAX_BODY_PANELS {
+        return Err(PanelError::TooManyPanels {
             requested: params.body_panels,
         });
     }
@@ -372,7 +421,15 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         let right = hull.point(1.0);
         let beam = (right[0] - left[0]).abs();
         let mean_length = body.iter().map(|p| p.length).sum::<f64>() / body.len() as f64;
-        let count = ((params.lid_density * beam / mean_length).ceil() as usize).max(4);
+        let count = (params.lid_density * beam / mean_length).ceil().max(4.0);
+        if count > MAX_LID_PANELS as f64 {
+            return Err(PanelError::TooManyLidPanels {
+                requested: count,
+                lid_density: params.lid_density,
+            });
+        }
+        // An integer from 4 to MAX_LID_PANELS: the conversion is exact.
+        let count = count as usize;
         // The lid runs from the right waterline to the left one, so the body (below it, seen
         // from the air) is on its left like every other panel.
         clustered_nodes(count, params.clustering)

@@ -3,7 +3,16 @@
 //!
 //! Everything here is nondimensional: frequencies as `kR = omega^2 R / g`, added mass as
 //! `A~_ij / (rho pi R^2)`. A frequency whose solve fails is reported in
-//! [`SweepResult::failures`] and the rest of the sweep goes on.
+//! [`SweepResult::failures`] and the rest of the sweep goes on; so is a frequency whose values
+//! are not finite after the extrapolation to zero panel size or the normalization. Every number
+//! of a [`SweepResult`] is finite, and a sweep in which every frequency failed is an error
+//! ([`SweepError::NothingComputed`]).
+//!
+//! # Limits
+//! The sizes the parameters decide are bounded, and checked before anything is allocated
+//! ([`SweepParams::validate`]): [`MAX_FREQUENCIES`], [`MAX_EXTRAPOLATION_LEVELS`],
+//! [`MAX_THREADS`], [`MAX_TABLE_ENTRIES`], and the panel counts of [`crate::panels`]
+//! ([`crate::panels::MAX_BODY_PANELS`], [`crate::panels::MAX_LID_PANELS`]).
 //!
 //! `A_inf` comes from the `omega -> inf` problem (`phi = 0` on `y = 0`). `A(0)` comes from the
 //! rigid-lid problem and is finite only for entries where at least one of the two DOFs has no
@@ -16,12 +25,14 @@
 //! hydrostatic one, `X_j -> rho g a integral_C n_j ds`: the scattered wave vanishes with k.
 
 use crate::bem::{
-    BemError, IrregularFrequencies, Problem, RadiationSolution, WaveForces, HEADINGS,
+    describe_surface, BemError, IrregularFrequencies, Problem, RadiationSolution, WaveForces,
+    HEADINGS,
 };
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelError, PanelParams};
 use crate::units;
+use crate::xml::{format_number, Notation};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -29,6 +40,74 @@ use std::fmt;
 use std::io::Write;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
+
+/// Most frequencies in one sweep: 500 times the default grid. The sweep's time and its table
+/// grow in proportion (at the default 128 panels about 0.05 s of solving per frequency, so
+/// the limit is over an hour on two cores).
+pub const MAX_FREQUENCIES: usize = 100_000;
+
+/// Most discretization levels: each level halves the panel count and the coarsest needs at
+/// least 4 panels, so [`crate::panels::MAX_BODY_PANELS`] (8192 = 4 * 2^11) allows 12.
+pub const MAX_EXTRAPOLATION_LEVELS: usize = 12;
+
+/// Most worker threads: each holds its own dense panel system while it solves, and beyond the
+/// machine's cores more threads only add memory.
+pub const MAX_THREADS: usize = 1024;
+
+/// Most entries of the added-mass table, frequencies times DOFs squared: 16 bytes each in
+/// memory (and as much again for the exciting force and the fit's copy) and about 60 bytes
+/// each as CSV text, 1.2 GB at the limit. The default 9-DOF sweep has 16,281.
+pub const MAX_TABLE_ENTRIES: usize = 20_000_000;
+
+/// A size that the parameters of a sweep decide, and its limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SizeLimit {
+    /// Frequencies of the grid ([`MAX_FREQUENCIES`]).
+    Frequencies,
+    /// Discretization levels ([`MAX_EXTRAPOLATION_LEVELS`]).
+    ExtrapolationLevels,
+    /// Worker threads ([`MAX_THREADS`]).
+    Threads,
+    /// Entries of the added-mass table, frequencies times DOFs squared ([`MAX_TABLE_ENTRIES`]).
+    TableEntries,
+}
+
+impl SizeLimit {
+    /// The largest value allowed.
+    pub fn max(self) -> usize {
+        match self {
+            SizeLimit::Frequencies => MAX_FREQUENCIES,
+            SizeLimit::ExtrapolationLevels => MAX_EXTRAPOLATION_LEVELS,
+            SizeLimit::Threads => MAX_THREADS,
+            SizeLimit::TableEntries => MAX_TABLE_ENTRIES,
+        }
+    }
+
+    /// What is counted, in words.
+    pub fn quantity(self) -> &'static str {
+        match self {
+            SizeLimit::Frequencies => "frequencies",
+            SizeLimit::ExtrapolationLevels => "discretization levels",
+            SizeLimit::Threads => "worker threads",
+            SizeLimit::TableEntries => "added-mass table entries (frequencies x DOFs^2)",
+        }
+    }
+
+    /// Why the limit is there (see the constants).
+    pub fn reason(self) -> &'static str {
+        match self {
+            SizeLimit::Frequencies => {
+                "the sweep's time and its table grow with each frequency; 500 times the default grid"
+            }
+            SizeLimit::ExtrapolationLevels => {
+                "each level halves the panels, and the coarsest of the largest mesh keeps 4"
+            }
+            SizeLimit::Threads => "each thread holds its own dense panel system",
+            SizeLimit::TableEntries => "about 1.2 GB of CSV text at the limit",
+        }
+    }
+}
 
 /// Parameters of a sweep, with documented defaults.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,14 +143,91 @@ impl Default for SweepParams {
     }
 }
 
+impl SweepParams {
+    /// Checks the parameters for a sweep of `hull`, before anything is allocated: at least
+    /// one frequency, each finite and > 0; the thread count in 1 ..= [`MAX_THREADS`]; the
+    /// sizes within [`MAX_FREQUENCIES`], [`MAX_EXTRAPOLATION_LEVELS`] and
+    /// [`MAX_TABLE_ENTRIES`]; the body panels within 4 ..=
+    /// [`crate::panels::MAX_BODY_PANELS`] at every level. [`run`] calls it first.
+    ///
+    /// # Errors
+    /// The first parameter out of bounds.
+    pub fn validate(&self, hull: &Hull) -> Result<(), SweepError> {
+        let too_large = |limit: SizeLimit, requested: usize| {
+            (requested > limit.max()).then_some(SweepError::TooLarge { limit, requested })
+        };
+        if self.threads == 0 {
+            return Err(SweepError::Threads {
+                threads: 0,
+                message: String::new(),
+            });
+        }
+        let dofs = hull.dof_count();
+        let entries = self.kr.len().saturating_mul(dofs.saturating_mul(dofs));
+        let oversized = too_large(SizeLimit::Threads, self.threads)
+            .or_else(|| too_large(SizeLimit::Frequencies, self.kr.len()))
+            .or_else(|| too_large(SizeLimit::ExtrapolationLevels, self.extrapolation_levels))
+            .or_else(|| too_large(SizeLimit::TableEntries, entries));
+        if let Some(error) = oversized {
+            return Err(error);
+        }
+        if self.kr.is_empty() {
+            return Err(SweepError::NoFrequencies);
+        }
+        if let Some(bad) = self.kr.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
+            return Err(SweepError::Frequency(*bad));
+        }
+        check_levels(&self.panels, self.extrapolation_levels)
+    }
+}
+
+/// The panel counts of every level: 1 ..= [`MAX_EXTRAPOLATION_LEVELS`] levels, the finest
+/// within 4 ..= [`crate::panels::MAX_BODY_PANELS`], the coarsest with at least 4 panels.
+fn check_levels(panels: &PanelParams, levels: usize) -> Result<(), SweepError> {
+    if levels == 0 {
+        return Err(SweepError::NoLevels);
+    }
+    if levels > MAX_EXTRAPOLATION_LEVELS {
+        return Err(SweepError::TooLarge {
+            limit: SizeLimit::ExtrapolationLevels,
+            requested: levels,
+        });
+    }
+    if panels.body_panels < 4 {
+        return Err(SweepError::Mesh(PanelError::TooFewPanels {
+            requested: panels.body_panels,
+        }));
+    }
+    if panels.body_panels > panels::MAX_BODY_PANELS {
+        return Err(SweepError::Mesh(PanelError::TooManyPanels {
+            requested: panels.body_panels,
+        }));
+    }
+    let coarsest = panels.body_panels >> (levels - 1);
+    if levels > 1 && coarsest < 4 {
+        return Err(SweepError::TooFewPanelsForLevels {
+            panels: panels.body_panels,
+            levels,
+            coarsest,
+        });
+    }
+    Ok(())
+}
+
 /// A log-spaced grid of `count` points from `min` to `max` inclusive.
 ///
 /// # Errors
-/// `min <= 0`, `max < min`, non-finite bounds, or `count` of 0 (1 point requires
-/// `min == max`).
+/// `min <= 0`, `max < min`, non-finite bounds, `count` of 0 (1 point requires
+/// `min == max`), or more than [`MAX_FREQUENCIES`] points.
 pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError> {
     if !(min.is_finite() && max.is_finite() && min > 0.0) {
         return Err(SweepError::Grid { min, max, count });
+    }
+    if count > MAX_FREQUENCIES {
+        return Err(SweepError::TooLarge {
+            limit: SizeLimit::Frequencies,
+            requested: count,
+        });
     }
     if max < min || count == 0 || (count == 1 && max != min) {
         return Err(SweepError::Grid { min, max, count });
@@ -113,22 +269,14 @@ impl Solver {
     /// (`levels >= 1`; 1 means no extrapolation).
     ///
     /// # Errors
-    /// The discretization errors of [`panels::discretize`]; `levels` of 0; a coarsest mesh
-    /// below 4 panels.
+    /// The discretization errors of [`panels::discretize`]; `levels` of 0 or more than
+    /// [`MAX_EXTRAPOLATION_LEVELS`]; a coarsest mesh below 4 panels (checked before any
+    /// mesh is made).
     pub fn new(hull: &Hull, panels: &PanelParams, levels: usize) -> Result<Self, SweepError> {
-        if levels == 0 {
-            return Err(SweepError::NoLevels);
-        }
+        check_levels(panels, levels)?;
         let problems = (0..levels)
             .map(|level| {
                 let count = panels.body_panels >> level;
-                if level > 0 && count < 4 {
-                    return Err(SweepError::TooFewPanelsForLevels {
-                        panels: panels.body_panels,
-                        levels,
-                        coarsest: count,
-                    });
-                }
                 let params = PanelParams {
                     body_panels: count,
                     ..*panels
@@ -225,6 +373,20 @@ impl Solver {
         }
         finest.added_mass = table.swap_remove(0);
         finest.wave_forces = waves.swap_remove(0);
+        let finite = |z: &Complex64| z.re.is_finite() && z.im.is_finite();
+        let forces_finite = finest.wave_forces.as_ref().is_none_or(|w| {
+            w.haskind
+                .iter()
+                .chain(w.direct.iter())
+                .chain(w.froude_krylov.iter())
+                .all(finite)
+        });
+        if !(finest.added_mass.iter().all(finite) && forces_finite) {
+            return Err(BemError::NonFiniteExtrapolation {
+                surface,
+                levels: self.problems.len(),
+            });
+        }
         Ok(finest)
     }
 }
@@ -273,6 +435,33 @@ pub enum SweepError {
         /// Why it failed.
         cause: BemError,
     },
+    /// A size the parameters decide is above its limit (see [`SizeLimit`]).
+    TooLarge {
+        /// Which size.
+        limit: SizeLimit,
+        /// The size asked for.
+        requested: usize,
+    },
+    /// The grid has no frequency.
+    NoFrequencies,
+    /// A value computed once for the whole sweep is not finite after its normalization.
+    NonFinite {
+        /// What: `A_inf`, `A(0)` or the long-wave exciting force.
+        quantity: &'static str,
+        /// The reference half-beam R it was normalized with (m).
+        half_beam: f64,
+    },
+    /// Every frequency failed: there is no table.
+    NothingComputed {
+        /// Each frequency with the reason it failed, in grid order.
+        failures: Vec<(f64, String)>,
+    },
+}
+
+/// A number as messages print it: plain digits for magnitudes in [1e-4, 1e9), an exponent
+/// otherwise (`1e300`, not 301 digits).
+fn readable(x: f64) -> String {
+    format_number(x, Notation::Plain)
 }
 
 impl fmt::Display for SweepError {
@@ -280,13 +469,47 @@ impl fmt::Display for SweepError {
         match self {
             SweepError::Grid { min, max, count } if min.is_finite() && max.is_finite() && *min > 0.0 => write!(
                 f,
-                "kR grid {min}:{max}:{count}: need MIN <= MAX and COUNT >= 2 (or MIN = MAX with COUNT = 1)"
+                "kR grid {}:{}:{count}: need MIN <= MAX and COUNT >= 2 (or MIN = MAX with COUNT = 1)",
+                readable(*min),
+                readable(*max)
             ),
-            SweepError::Grid { min, max, .. } => {
-                write!(f, "kR grid {min}:{max}: kR must be finite and > 0")
-            }
-            SweepError::Frequency(bad) => {
-                write!(f, "kR = {bad} in the grid: every kR must be finite and > 0")
+            SweepError::Grid { min, max, .. } => write!(
+                f,
+                "kR grid {}:{}: kR must be finite and > 0",
+                readable(*min),
+                readable(*max)
+            ),
+            SweepError::Frequency(bad) => write!(
+                f,
+                "kR = {} in the grid: every kR must be finite and > 0",
+                readable(*bad)
+            ),
+            SweepError::NoFrequencies => f.write_str("the kR grid has no frequency"),
+            SweepError::TooLarge { limit, requested } => write!(
+                f,
+                "{requested} {} requested; at most {} ({})",
+                limit.quantity(),
+                limit.max(),
+                limit.reason()
+            ),
+            SweepError::NonFinite {
+                quantity,
+                half_beam,
+            } => write!(
+                f,
+                "{quantity} is not finite after its normalization by the reference half-beam \
+                 R = {} m",
+                readable(*half_beam)
+            ),
+            SweepError::NothingComputed { failures } => {
+                match failures.len() {
+                    1 => f.write_str("the sweep's only frequency failed")?,
+                    n => write!(f, "all {n} frequencies of the sweep failed")?,
+                }
+                if let Some((kr, reason)) = failures.first() {
+                    write!(f, "; kR = {}: {reason}", readable(*kr))?;
+                }
+                Ok(())
             }
             SweepError::NoLevels => f.write_str("at least one discretization level is needed"),
             SweepError::TooFewPanelsForLevels {
@@ -307,7 +530,7 @@ impl fmt::Display for SweepError {
                 write!(f, "cannot start {threads} threads: {message}")
             }
             SweepError::Limit { surface, cause } => {
-                write!(f, "the {surface:?} limit failed: {cause}")
+                write!(f, "{} failed: {cause}", describe_surface(*surface))
             }
         }
     }
@@ -376,23 +599,16 @@ pub struct SweepResult {
 /// table's `H/R` is the hull's own ([`Hull::circle_depth_ratio`]).
 ///
 /// # Errors
-/// Invalid parameters (bad grid, too few panels, no threads), or a failure of either frequency
-/// limit (without `A_inf` there is nothing to fit). Failures at single finite frequencies are
-/// not errors: see [`SweepResult::failures`].
+/// Invalid parameters ([`SweepParams::validate`]), a failure of either frequency limit
+/// (without `A_inf` there is nothing to fit) or a non-finite limit, or a sweep in which every
+/// frequency failed. Failures at single frequencies are not errors: see
+/// [`SweepResult::failures`].
 pub fn run(
     hull: &Hull,
     params: &SweepParams,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepResult, SweepError> {
-    if params.threads == 0 {
-        return Err(SweepError::Threads {
-            threads: 0,
-            message: String::new(),
-        });
-    }
-    if let Some(bad) = params.kr.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
-        return Err(SweepError::Frequency(*bad));
-    }
+    params.validate(hull)?;
     let solver = Solver::new(hull, &params.panels, params.extrapolation_levels)?;
     let mesh = solver.mesh();
     let radius = hull.reference_half_beam();
@@ -419,6 +635,16 @@ pub fn run(
         let diverges = flux[i].abs() > flux_tolerance && flux[j].abs() > flux_tolerance;
         (!diverges).then(|| zero.added_mass[(i, j)].re / scale)
     });
+    let non_finite = |quantity| SweepError::NonFinite {
+        quantity,
+        half_beam: radius,
+    };
+    if !added_mass_inf.iter().all(|a| a.is_finite()) {
+        return Err(non_finite("A_inf"));
+    }
+    if !added_mass_zero.iter().flatten().all(|a| a.is_finite()) {
+        return Err(non_finite("A(0)"));
+    }
 
     let solve_at = |kr: f64| {
         let surface = FreeSurface::Wave {
@@ -433,12 +659,15 @@ pub fn run(
         .iter()
         .map(|&e| radius.powi(1 + i32::from(e)))
         .collect();
-    let excitation_long_wave = solver
+    let excitation_long_wave: Vec<f64> = solver
         .long_wave_excitation()
         .iter()
         .zip(&force_scale)
         .map(|(flux, scale)| flux / scale)
         .collect();
+    if !excitation_long_wave.iter().all(|x| x.is_finite()) {
+        return Err(non_finite("the long-wave exciting force"));
+    }
 
     let mut result = SweepResult {
         hull_name: hull.name().to_string(),
@@ -470,23 +699,43 @@ pub fn run(
                 result.times.influence += solution.influence_time;
                 result.times.assembly += solution.assembly_time;
                 result.times.factorization += solution.factorization_time;
+                let added_mass = solution.added_mass / Complex64::new(scale, 0.0);
+                let mut forces = solution.wave_forces;
+                for part in forces
+                    .iter_mut()
+                    .flat_map(|f| [&mut f.haskind, &mut f.direct, &mut f.froude_krylov])
+                {
+                    for (j, mut row) in part.row_iter_mut().enumerate() {
+                        row /= Complex64::new(force_scale[j], 0.0);
+                    }
+                }
+                let finite = |z: &Complex64| z.re.is_finite() && z.im.is_finite();
+                let all_finite = added_mass.iter().all(finite)
+                    && solution.reciprocity_residual.is_finite()
+                    && forces.as_ref().is_none_or(|w| {
+                        w.haskind
+                            .iter()
+                            .chain(w.direct.iter())
+                            .chain(w.froude_krylov.iter())
+                            .all(finite)
+                    });
+                if !all_finite {
+                    result.failures.push((
+                        kr,
+                        format!(
+                            "non-finite added mass or exciting force after the normalization \
+                             by the reference half-beam R = {} m",
+                            readable(radius)
+                        ),
+                    ));
+                    continue;
+                }
                 result.kr.push(kr);
-                result
-                    .added_mass
-                    .push(solution.added_mass / Complex64::new(scale, 0.0));
+                result.added_mass.push(added_mass);
                 result
                     .reciprocity_residual
                     .push(solution.reciprocity_residual);
-                if let Some(mut forces) = solution.wave_forces {
-                    for part in [
-                        &mut forces.haskind,
-                        &mut forces.direct,
-                        &mut forces.froude_krylov,
-                    ] {
-                        for (j, mut row) in part.row_iter_mut().enumerate() {
-                            row /= Complex64::new(force_scale[j], 0.0);
-                        }
-                    }
+                if let Some(forces) = forces {
                     result.excitation.push(forces);
                 }
                 if coarse.is_none() {
@@ -497,6 +746,11 @@ pub fn run(
             }
             Err(err) => result.failures.push((kr, err.to_string())),
         }
+    }
+    if result.kr.is_empty() {
+        return Err(SweepError::NothingComputed {
+            failures: result.failures,
+        });
     }
     if let Some((_, warning)) = coarse {
         result.warnings.push(warning);
@@ -752,7 +1006,7 @@ impl SweepResult {
             writeln!(out, "# warning: {warning}")?;
         }
         for (kr, reason) in &self.failures {
-            writeln!(out, "# failed: kR = {kr}: {reason}")?;
+            writeln!(out, "# failed: kR = {}: {reason}", readable(*kr))?;
         }
         Ok(())
     }

@@ -88,21 +88,17 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
     )?;
     let built = pipeline::build_network(scene)?;
     if let Some(path) = &args.network_out {
-        built
-            .fit
-            .network
-            .write_file(path)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        crate::output::file(path, built.fit.network.to_xml_string().as_bytes())?;
     }
     if let Some(dir) = &args.plots {
         write_plots(&built, dir)?;
     }
-    if args.json {
-        println!("{}", json(&built));
+    let report = if args.json {
+        format!("{}\n", json(&built))
     } else {
-        print!("{}", text(&built));
-    }
-    Ok(())
+        text(&built)
+    };
+    crate::output::stdout(report.as_bytes())
 }
 
 /// The human-readable report.

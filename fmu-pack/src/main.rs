@@ -7,9 +7,14 @@
 //! fmu-pack sweep ...                        coefficient table of a hull
 //! fmu-pack fit ...                          equivalent network of a hull
 //! ```
+//!
+//! Exit codes: 0 on success; 1 on any error, with one line `fmu-pack: error: ...` on standard
+//! error (also when standard output cannot be written, see [`output`]); 2 for command-line
+//! syntax errors (clap's usage message).
 
 mod fit_cmd;
 mod hull_arg;
+mod output;
 mod pack;
 mod pipeline;
 mod progress;
@@ -48,11 +53,11 @@ fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Some(Command::Pack(args)) => {
             let summary = pack::pack(&args).map_err(|e| e.to_string())?;
-            println!("{summary}");
+            output::stdout(format!("{summary}\n").as_bytes())?;
         }
         Some(Command::Inspect(args)) => {
             let found = pack::inspect(&args.fmu).map_err(|e| e.to_string())?;
-            print!("{found}");
+            output::stdout(found.to_string().as_bytes())?;
         }
         Some(Command::Sweep(args)) => sweep_cmd::run(&args)?,
         Some(Command::Fit(args)) => fit_cmd::run(&args)?,
@@ -65,17 +70,38 @@ fn run(cli: Cli) -> Result<(), String> {
                 return Err("the default pack arguments did not parse".into());
             };
             let summary = pack::pack(&args).map_err(|e| e.to_string())?;
-            println!("{summary}");
+            output::stdout(format!("{summary}\n").as_bytes())?;
         }
     }
     Ok(())
 }
 
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help and --version: the text is the product, so a failed write is an error.
+        Err(e) if !e.use_stderr() => {
+            if std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            return match output::stdout(e.render().to_string().as_bytes()) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(message) => {
+                    output::stderr_line(&format!("fmu-pack: error: {message}"));
+                    ExitCode::FAILURE
+                }
+            };
+        }
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
-            eprintln!("fmu-pack: error: {message}");
+            output::stderr_line(&format!("fmu-pack: error: {message}"));
             ExitCode::FAILURE
         }
     }

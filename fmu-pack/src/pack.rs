@@ -62,9 +62,15 @@ pub struct PackArgs {
     /// Frequency band of the fit: `MIN:MAX` in kR, or `MIN:MAXrad/s` (default 0.05:5).
     #[arg(long, allow_hyphen_values = true)]
     pub band: Option<String>,
-    /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
+    /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01). A fit
+    /// that misses it is an error and no archive is written, unless
+    /// --allow-tolerance-miss.
     #[arg(long)]
     pub tol: Option<f64>,
+    /// Write the archive even when the fit misses the tolerance (the summary and the
+    /// archive's scene report say 'NOT met').
+    #[arg(long)]
+    pub allow_tolerance_miss: bool,
     /// Network order.
     #[arg(long)]
     pub order: Option<usize>,
@@ -166,10 +172,11 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                 || args.tol.is_some()
                 || args.order.is_some()
                 || args.max_step.is_some()
+                || args.allow_tolerance_miss
             {
                 return Err(PackError(
-                    "--band, --tol, --order and --max-step shape a computed network; they \
-                     cannot apply to --network FILE"
+                    "--band, --tol, --order, --max-step and --allow-tolerance-miss shape a \
+                     computed network; they cannot apply to --network FILE"
                         .into(),
                 ));
             }
@@ -199,6 +206,9 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                 ..Scene::new(whole_hull)
             };
             let built = pipeline::build_network(scene)?;
+            if !built.fit.tolerance_met && !args.allow_tolerance_miss {
+                return Err(PackError(tolerance_missed(&built)));
+            }
             let scene = built.report();
             let network = PackedNetwork::from_network(built.fit.network.clone());
             report = Some(Fitted { built, scene });
@@ -218,6 +228,22 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         &identifier,
         &args.output,
         report.as_ref(),
+    )
+}
+
+/// Why a fit that misses its tolerance is not packed, and what to do.
+fn tolerance_missed(built: &Built) -> String {
+    let fit = &built.fit;
+    format!(
+        "the fit misses the tolerance: largest error {:.2} % of sqrt(|A_ii A_jj|) against the \
+         tolerance {:.2} % (--tol) with the {} network, order {}, {} states; no archive \
+         written. Try another --order or a narrower --band, raise --tol, or pass \
+         --allow-tolerance-miss to pack it anyway",
+        100.0 * fit.max_relative_error,
+        100.0 * fit.tolerance,
+        fit.network.form,
+        fit.order,
+        fit.states
     )
 }
 
@@ -415,48 +441,71 @@ pub fn pack_network(
     })
 }
 
-/// Writes the archive through a temporary file next to `output`, then renames it.
+/// Writes the archive. A regular file (or a new one) is written through a temporary file
+/// next to `output`, then renamed over it, so a failed write leaves no partial archive. An
+/// existing `output` that is not a regular file (a device such as `/dev/stdout`, a named
+/// pipe, or a link to one) is written directly: renaming over it would replace the device
+/// node instead of writing to it.
 fn write_zip(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), PackError> {
     use zip::write::SimpleFileOptions;
+    let err = |e: &dyn fmt::Display| PackError(format!("writing {}: {e}", output.display()));
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated)
+        .unix_permissions(0o644)
+        .large_file(false);
+    for (path, bytes) in entries {
+        if path.contains('\\') || path.starts_with('/') || path.contains("..") {
+            return Err(PackError(format!("bad archive path {path}")));
+        }
+        zip.start_file(path.as_str(), options)
+            .map_err(|e| err(&e))?;
+        zip.write_all(bytes).map_err(|e| err(&e))?;
+    }
+    let archive = zip.finish().map_err(|e| err(&e))?.into_inner();
+    match std::fs::metadata(output) {
+        Ok(found) if found.is_dir() => Err(PackError(format!(
+            "writing {}: it is a directory",
+            output.display()
+        ))),
+        Ok(found) if !found.is_file() => {
+            let mut file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(output)
+                .map_err(|e| err(&e))?;
+            file.write_all(&archive)
+                .and_then(|()| file.flush())
+                .map_err(|e| err(&e))
+        }
+        _ => write_through_temporary(output, &archive).map_err(|e| err(&e)),
+    }
+}
+
+/// Writes `bytes` to a temporary file next to `output`, syncs it, and renames it over
+/// `output`; the temporary file is removed on failure.
+fn write_through_temporary(output: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = output
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     let name = output
         .file_name()
-        .ok_or_else(|| format!("{} is not a file name", output.display()))?;
+        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
     let temporary = dir.join(format!(
         ".{}.{}.part",
         name.to_string_lossy(),
         std::process::id()
     ));
-    let err = |e: &dyn fmt::Display| PackError(format!("writing {}: {e}", output.display()));
-    let result = (|| -> Result<(), PackError> {
-        let file = std::fs::File::create(&temporary).map_err(|e| err(&e))?;
-        let mut zip = zip::ZipWriter::new(file);
-        let options = SimpleFileOptions::default()
-            .compression_method(zip::CompressionMethod::Deflated)
-            .unix_permissions(0o644)
-            .large_file(false);
-        for (path, bytes) in entries {
-            if path.contains('\\') || path.starts_with('/') || path.contains("..") {
-                return Err(PackError(format!("bad archive path {path}")));
-            }
-            zip.start_file(path.as_str(), options)
-                .map_err(|e| err(&e))?;
-            zip.write_all(bytes).map_err(|e| err(&e))?;
-        }
-        zip.finish().map_err(|e| err(&e))?;
-        Ok(())
-    })();
-    if let Err(e) = result {
+    let result = std::fs::File::create(&temporary)
+        .and_then(|mut file| {
+            file.write_all(bytes)?;
+            file.sync_all()
+        })
+        .and_then(|()| std::fs::rename(&temporary, output));
+    if result.is_err() {
         let _ = std::fs::remove_file(&temporary);
-        return Err(e);
     }
-    std::fs::rename(&temporary, output).map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        err(&e)
-    })
+    result
 }
 
 fn matrix_table(title: &str, names: &[String], m: &nalgebra::DMatrix<f64>) -> String {
@@ -567,10 +616,10 @@ pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     }
     let manifest = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../Cargo.toml"));
     if let (true, true, Some(target_dir)) = (manifest.is_file(), in_cargo_target, target_dir) {
-        eprintln!(
+        crate::output::stderr_line(&format!(
             "fmu-pack: {} is missing; building it: cargo build --release -p hydrofmu --lib",
             beside.display()
-        );
+        ));
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
         let status = std::process::Command::new(cargo)
             .args([
@@ -698,12 +747,14 @@ fn read_entry<R: Read + std::io::Seek>(
     Ok(Some(text))
 }
 
-/// `fmu-pack inspect`.
+/// `fmu-pack inspect`. Every error starts with the archive's path.
 pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
-    let file =
-        std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-    let mut archive = zip::ZipArchive::new(file)
-        .map_err(|e| format!("{}: not a zip archive: {e}", path.display()))?;
+    inspect_archive(path).map_err(|e| PackError(format!("{}: {e}", path.display())))
+}
+
+fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot open the archive: {e}"))?;
+    let mut archive = zip::ZipArchive::new(file).map_err(|e| format!("not a zip archive: {e}"))?;
     let entries: Vec<String> = archive.file_names().map(str::to_string).collect();
     let description = read_entry(&mut archive, "modelDescription.xml")?
         .ok_or("no modelDescription.xml in the archive")?;

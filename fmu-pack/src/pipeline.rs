@@ -10,8 +10,9 @@ use crate::progress::Progress;
 use hydrofmu::fmu::DofUnit;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::FitReport;
+use hydrofmu::panels::{PanelError, MAX_BODY_PANELS};
 use hydrofmu::scene::{Band, BuiltScene, Scene, SceneError, SceneReport, SceneResponse};
-use hydrofmu::sweep::SweepResult;
+use hydrofmu::sweep::{SizeLimit, SweepError, SweepResult};
 use std::time::{Duration, Instant};
 
 /// Parses a band as `--band` gives it: `MIN:MAX` (kR) or `MIN:MAXrad/s` (rad/s).
@@ -47,6 +48,35 @@ pub fn message(error: SceneError) -> String {
         } => format!(
             "--max-step {h} s: its Nyquist frequency pi/h = {nyquist:.4} rad/s leaves nothing \
              of the band {lo:.4} .. {hi:.4} rad/s; use a smaller step or a lower band"
+        ),
+        SceneError::Sweep(e) => sweep_message(&e),
+        other => other.to_string(),
+    }
+}
+
+/// A sweep error in the words of the command line: a size limit names its option.
+pub fn sweep_message(error: &SweepError) -> String {
+    match error {
+        SweepError::TooLarge { limit, requested } => {
+            let option = match limit {
+                SizeLimit::Frequencies => "--kr COUNT",
+                SizeLimit::ExtrapolationLevels => "--levels",
+                SizeLimit::Threads => "--threads",
+                _ => "--kr COUNT and --dofs",
+            };
+            format!(
+                "{option} {requested}: at most {} {} ({})",
+                limit.max(),
+                limit.quantity(),
+                limit.reason()
+            )
+        }
+        SweepError::Threads { threads: 0, .. } => "--threads 0: at least 1 is needed".into(),
+        SweepError::NoLevels => "--levels 0: at least 1 is needed".into(),
+        SweepError::Mesh(PanelError::TooManyPanels { requested }) => format!(
+            "--panels {requested}: at most {MAX_BODY_PANELS} (the dense panel system needs \
+             memory growing as N^2 and time as N^3: about 7 GB and minutes per frequency at the \
+             limit)"
         ),
         other => other.to_string(),
     }
@@ -86,13 +116,13 @@ pub fn build_network(scene: Scene) -> Result<Built, String> {
         .map_err(message)?;
     let sweep_time = start.elapsed();
     for warning in &sweep.warnings {
-        eprintln!("fmu-pack: warning: {warning}");
+        crate::output::stderr_line(&format!("fmu-pack: warning: {warning}"));
     }
     let response = scene.response(&sweep).map_err(message)?;
     let start = Instant::now();
     let fit = scene.fit(&response).map_err(message)?;
     for note in &fit.notes {
-        eprintln!("fmu-pack: {note}");
+        crate::output::stderr_line(&format!("fmu-pack: {note}"));
     }
     let fit_time = start.elapsed();
     Ok(Built {

@@ -1,6 +1,8 @@
 //! `fmu-pack sweep`: the coefficient table of a hull.
 
 use crate::hull_arg;
+use crate::output;
+use crate::pipeline;
 use crate::progress::Progress;
 use clap::Args;
 use hydrofmu::bem::IrregularFrequencies;
@@ -8,7 +10,7 @@ use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::scene::Scene;
 use hydrofmu::sweep::{self, ExcitationPart, SweepParams};
-use std::io::Write;
+use hydrofmu::xml::{format_number, Notation};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -45,9 +47,16 @@ pub struct HullSweepArgs {
     /// plain N-panel result.
     #[arg(long, default_value_t = SweepParams::default().extrapolation_levels)]
     pub levels: usize,
-    /// Worker threads.
-    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    /// Worker threads (at most 1024).
+    #[arg(long, default_value_t = default_threads())]
     pub threads: usize,
+}
+
+/// One worker thread per core, within [`sweep::MAX_THREADS`].
+fn default_threads() -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(sweep::MAX_THREADS)
 }
 
 impl HullSweepArgs {
@@ -120,17 +129,6 @@ pub fn hydrostatics_csv(hull: &Hull) -> Result<String, String> {
     Ok(out)
 }
 
-/// Writes `text` to `path` (`-`: standard output).
-fn write_output(path: &std::path::Path, text: &[u8]) -> Result<(), String> {
-    if path.as_os_str() == "-" {
-        std::io::stdout()
-            .write_all(text)
-            .map_err(|e| format!("cannot write to standard output: {e}"))
-    } else {
-        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
-    }
-}
-
 /// Parses `MIN:MAX:COUNT`.
 pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
     let parts: Vec<&str> = text.split(':').collect();
@@ -146,7 +144,7 @@ pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
         .trim()
         .parse::<usize>()
         .map_err(|_| format!("--kr '{text}': COUNT '{count}' is not a positive integer"))?;
-    sweep::log_grid(number(min)?, number(max)?, count).map_err(|e| e.to_string())
+    sweep::log_grid(number(min)?, number(max)?, count).map_err(|e| pipeline::sweep_message(&e))
 }
 
 /// The panel parameters for `hull`: the automatic default, or the count given.
@@ -171,15 +169,15 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     let start = Instant::now();
     let result = scene
         .sweep(&|done, total| progress.update(done, total))
-        .map_err(|e| e.to_string())?;
+        .map_err(pipeline::message)?;
     let elapsed = start.elapsed();
     let mut text = Vec::new();
     result
         .write_csv(&mut text)
         .map_err(|e| format!("cannot format the table: {e}"))?;
-    write_output(&args.output, &text)?;
+    output::file(&args.output, &text)?;
     if let Some(path) = &args.hydrostatics {
-        write_output(path, hydrostatics_csv(&hull)?.as_bytes())?;
+        output::file(path, hydrostatics_csv(&hull)?.as_bytes())?;
     }
     for (path, part) in [
         (&args.excitation, ExcitationPart::Total),
@@ -190,28 +188,31 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
             result
                 .write_excitation_csv(&mut text, part)
                 .map_err(|e| format!("cannot format the excitation table: {e}"))?;
-            write_output(path, &text)?;
+            output::file(path, &text)?;
         }
     }
     for warning in &result.warnings {
-        eprintln!("warning: {warning}");
+        output::stderr_line(&format!("warning: {warning}"));
     }
     for (kr, reason) in &result.failures {
-        eprintln!("warning: kR = {kr} failed and is left out: {reason}");
+        output::stderr_line(&format!(
+            "warning: kR = {} failed and is left out: {reason}",
+            format_number(*kr, Notation::Plain)
+        ));
     }
-    eprintln!(
+    output::stderr_line(&format!(
         "time summed over threads: influence (Green function, panel integrals) {:.3} s, \
          assembly {:.3} s, factorization {:.3} s",
         result.times.influence.as_secs_f64(),
         result.times.assembly.as_secs_f64(),
         result.times.factorization.as_secs_f64()
-    );
+    ));
     let worst_reciprocity = result
         .reciprocity_residual
         .iter()
         .copied()
         .fold(0.0, f64::max);
-    eprintln!(
+    output::stderr_line(&format!(
         "{}: {} DOFs, {} frequencies ({} failed), {} body + {} lid panels, {:.3} s wall, \
          max reciprocity residual {:.1e}",
         result.hull_name,
@@ -222,17 +223,17 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         result.panel_counts.1,
         elapsed.as_secs_f64(),
         worst_reciprocity
-    );
+    ));
     if args.excitation.is_some() {
         let difference = result
             .haskind_direct_difference()
             .iter()
             .copied()
             .fold(0.0, f64::max);
-        eprintln!(
+        output::stderr_line(&format!(
             "exciting force: direct diffraction solve; the Haskind relation agrees to {difference:.1e} \
              of the largest |X_j| (max over kR and DOFs)"
-        );
+        ));
     }
     Ok(())
 }

@@ -6,7 +6,10 @@
 //! theta = 2 pi s, P = (0, -H) + R(-cos theta, -sin theta), starting at the leftmost point.
 //! In both, t = (sin theta, -cos theta) and n = (cos theta, sin theta).
 
-use super::{craig_bampton_coefficients, Contour, Dof, Field, Hull, HullError, RigidKind};
+use super::{
+    check_coordinates, check_length, craig_bampton_coefficients, Contour, Dof, Field, Hull,
+    HullError, RigidKind,
+};
 
 fn rigid(name: &str, kind: RigidKind) -> Dof {
     Dof {
@@ -30,6 +33,7 @@ impl Hull {
                 format!("radius must be positive and finite, got {radius}"),
             ));
         }
+        check_length("radius", radius).map_err(|m| HullError::new(source, None, m))?;
         let coefficients = craig_bampton_coefficients(radius);
         let mut dofs = vec![
             rigid("sway", RigidKind::Sway),
@@ -71,10 +75,13 @@ impl Hull {
                 format!("radius must be positive and finite, got {radius}"),
             ));
         }
+        check_length("radius", radius).map_err(|m| HullError::new(source, None, m))?;
         if depth_over_radius == 0.0 {
             return Hull::semicircle(radius);
         }
         check_circle_depth(depth_over_radius).map_err(|m| HullError::new(source, None, m))?;
+        check_coordinates("centre", [0.0, -depth_over_radius * radius])
+            .map_err(|m| HullError::new(source, None, m))?;
         Ok(Hull {
             name: "circle".to_string(),
             half_beam: radius,

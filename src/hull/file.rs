@@ -7,8 +7,10 @@
 
 use super::builtin::check_circle_depth;
 use super::validate::{knots, validate_polyline};
-use super::MAX_CONTOUR_POINTS;
-use super::{craig_bampton_coefficients, Contour, Dof, Field, Hull, HullError, Point, RigidKind};
+use super::{
+    check_coordinates, check_half_beam_ratio, check_length, craig_bampton_coefficients, Contour,
+    Dof, Field, Hull, HullError, Point, RigidKind, MAX_CONTOUR_POINTS, MAX_DOFS, MIN_LENGTH,
+};
 use crate::xml::{self, escape, Element, Notation, XmlError};
 use std::path::Path;
 
@@ -207,6 +209,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
             format!("half_beam must be positive, got {half_beam}"),
         ));
     }
+    check_length("half_beam", half_beam).map_err(|m| err(root.line, m))?;
     if let Some(units) = root.attribute("units") {
         if units != "m" {
             return Err(err(
@@ -259,7 +262,21 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     }
                 };
                 child.only_attributes(&["closed"]).map_err(at)?;
+                if child.children.len() > MAX_CONTOUR_POINTS {
+                    return Err(err(
+                        line,
+                        format!(
+                            "the contour has {} points; at most {MAX_CONTOUR_POINTS} (each \
+                             point becomes a panel node, and the panel count is limited to \
+                             {MAX_CONTOUR_POINTS})",
+                            child.children.len()
+                        ),
+                    ));
+                }
                 let (points, lines) = vectors(child, "point", source)?;
+                for (p, &line) in points.iter().zip(&lines) {
+                    check_coordinates("point", *p).map_err(|m| err(line, m))?;
+                }
                 geometry = Some(Geometry::Polyline {
                     points,
                     lines,
@@ -275,7 +292,9 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                 if radius <= 0.0 {
                     return Err(err(line, format!("radius must be positive, got {radius}")));
                 }
+                check_length("radius", radius).map_err(|m| err(line, m))?;
                 check_circle_depth(depth / radius).map_err(|m| err(line, m))?;
+                check_coordinates("centre", [0.0, -depth]).map_err(|m| err(line, m))?;
                 geometry = Some(Geometry::Circle {
                     radius,
                     depth,
@@ -290,6 +309,16 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                         format!(
                             "DOF name \"{dof_name}\" must start with a letter or '_' and contain \
                              only letters, digits and '_'"
+                        ),
+                    ));
+                }
+                if dofs.len() == MAX_DOFS {
+                    return Err(err(
+                        line,
+                        format!(
+                            "DOF '{dof_name}' is one more than the {MAX_DOFS} a hull may have \
+                             (the sweep's matrices grow with the square of the DOF count, the \
+                             network fit with its cube)"
                         ),
                     ));
                 }
@@ -313,6 +342,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                         })?;
                         let x = child.optional_number("x", 0.0).map_err(at)?;
                         let y = child.optional_number("y", 0.0).map_err(at)?;
+                        check_coordinates("reference point", [x, y]).map_err(|m| err(line, m))?;
                         child
                             .only_attributes(&["name", "kind", "x", "y"])
                             .map_err(at)?;
@@ -336,7 +366,21 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     }
                     _ => {
                         child.only_attributes(&["name"]).map_err(at)?;
-                        let (values, _) = vectors(child, "u", source)?;
+                        let (values, lines) = vectors(child, "u", source)?;
+                        for (u, &line) in values.iter().zip(&lines) {
+                            check_coordinates("displacement", *u).map_err(|m| err(line, m))?;
+                        }
+                        let largest = values.iter().flatten().fold(0.0f64, |a, c| a.max(c.abs()));
+                        if largest > 0.0 && largest < MIN_LENGTH {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "mode '{dof_name}': its largest displacement component \
+                                     {largest:e} m is below {MIN_LENGTH:e} m, too small to give \
+                                     meaningful numbers; scale the mode up"
+                                ),
+                            ));
+                        }
                         FileField::Vectors(values)
                     }
                 };
@@ -369,6 +413,28 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
             root.line,
             "the hull has no DOFs: add <rigid>, <mode> (or <craig_bampton>) elements".to_string(),
         ));
+    }
+    let (size, geometry_line) = match &geometry {
+        Geometry::Circle { radius, line, .. } => (2.0 * radius, *line),
+        Geometry::Polyline { points, line, .. } => {
+            let extent = |k: usize| {
+                let (lo, hi) = points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+                        (a.0.min(p[k]), a.1.max(p[k]))
+                    });
+                hi - lo
+            };
+            (extent(0).max(extent(1)), *line)
+        }
+    };
+    if size > 0.0 {
+        check_length(
+            "the section's size (the largest side of its bounding box)",
+            size,
+        )
+        .map_err(|m| err(geometry_line, m))?;
+        check_half_beam_ratio(half_beam, size).map_err(|m| err(root.line, m))?;
     }
     let mut notes = Vec::new();
     let (contour, order) = match geometry {
@@ -417,17 +483,6 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     line,
                     format!(
                         "the contour has {} points; at least 3 are needed",
-                        points.len()
-                    ),
-                ));
-            }
-            if points.len() > MAX_CONTOUR_POINTS {
-                return Err(err(
-                    line,
-                    format!(
-                        "the contour has {} points; at most {MAX_CONTOUR_POINTS} are accepted \
-                         (MAX_CONTOUR_POINTS: the panels are placed along the contour's arc \
-                         length, and a finer contour adds no geometry they can use)",
                         points.len()
                     ),
                 ));

@@ -22,18 +22,25 @@
 //! * elastic, built-in semicircle: the six Craig-Bampton modes `cb1..cb6` of a thin
 //!   semicircular beam (`craig_bampton.rs`).
 //!
+//! # Limits
+//! A hull must give meaningful numbers in double precision. The results are products of up
+//! to four lengths (the added mass scales as `R^2` and as the square of a mode, the exciting
+//! force as `R^(1 + e_j)`, the pressure stiffness as a mode squared), so every length stays
+//! within [[`MIN_LENGTH`], [`MAX_LENGTH`]] = [1e-6, 1e6] m: the half-beam, a circle's radius
+//! and depth, the section's size (the largest side of its bounding box), every coordinate
+//! and reference point, every mode component, and each mode's largest displacement
+//! component. Their products then stay within 1e-24 .. 1e24, where 1e154 squared would
+//! overflow and 1e-160 squared underflow to zero. The half-beam, which only makes the results
+//! nondimensional, lies within a factor [`MAX_HALF_BEAM_RATIO`] of the section's size either
+//! way. A hull has at most [`MAX_DOFS`] DOFs: the sweep's matrices grow with their square and
+//! the network fit with their cube; a contour at most [`MAX_CONTOUR_POINTS`] points.
+//!
 //! # Where things are
 //! * `builtin.rs`: [`Hull::semicircle`] and [`Hull::circle`], exact arcs with analytic fields;
 //! * `craig_bampton.rs`: the thin-beam modes of the semicircle (seed eqs. 4-6);
 //! * `file.rs`: hull files (`docs/HULL_FORMAT.md`) read with [`crate::xml`] and written back;
 //! * `validate.rs`: the geometric checks of a file's contour (waterline, self-contact,
 //!   orientation) and its arc-length knots.
-
-/// Most points a file contour may have. The panels (128 by default) are placed along the
-/// contour's arc length, so a contour finer than this adds no geometry they can use; the
-/// contour checks are linear in the points (a grid, `contact.rs`) and bounded by this limit
-/// in the worst case.
-pub const MAX_CONTOUR_POINTS: usize = 10_000;
 
 mod builtin;
 mod contact;
@@ -51,6 +58,76 @@ use std::fmt;
 
 /// A point or vector in the section plane, `[x, y]` in metres.
 pub type Point = [f64; 2];
+
+/// Smallest length a hull may state, in metres: the half-beam, a circle's radius, the
+/// section's size, and each mode's largest displacement (see the module docs, "Limits").
+pub const MIN_LENGTH: f64 = 1e-6;
+
+/// Largest magnitude of any length or coordinate of a hull, in metres (module docs, "Limits").
+pub const MAX_LENGTH: f64 = 1e6;
+
+/// The half-beam lies within this factor of the section's size, either way.
+pub const MAX_HALF_BEAM_RATIO: f64 = 1e3;
+
+/// Most DOFs of a hull.
+pub const MAX_DOFS: usize = 256;
+
+/// Most points of a `<contour>`: every point becomes a panel node, so a contour with more
+/// points than [`crate::panels::MAX_BODY_PANELS`] could never be swept. The contour checks are
+/// linear in the points (a grid, `contact.rs`; every pair of segments took minutes for
+/// 40,000 points before) and bounded by this limit in the worst case.
+pub const MAX_CONTOUR_POINTS: usize = crate::panels::MAX_BODY_PANELS;
+
+/// A number as messages print it (plain digits, or an exponent far from 1).
+fn plain(x: f64) -> String {
+    crate::xml::format_number(x, crate::xml::Notation::Plain)
+}
+
+/// Checks that `value` (metres) lies within [[`MIN_LENGTH`], [`MAX_LENGTH`]]; the message
+/// names `what`.
+fn check_length(what: &str, value: f64) -> Result<(), String> {
+    if (MIN_LENGTH..=MAX_LENGTH).contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} = {} m is outside [{}, {}] m, the lengths that give meaningful numbers",
+            plain(value),
+            plain(MIN_LENGTH),
+            plain(MAX_LENGTH)
+        ))
+    }
+}
+
+/// Checks that every component of `p` (metres) has a magnitude of at most [`MAX_LENGTH`].
+fn check_coordinates(what: &str, p: Point) -> Result<(), String> {
+    if p.iter().all(|c| c.abs() <= MAX_LENGTH) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} ({}, {}) has a component beyond {} m in magnitude, past the lengths that give \
+             meaningful numbers",
+            plain(p[0]),
+            plain(p[1]),
+            plain(MAX_LENGTH)
+        ))
+    }
+}
+
+/// Checks that `half_beam` lies within [`MAX_HALF_BEAM_RATIO`] of the section's `size`.
+fn check_half_beam_ratio(half_beam: f64, size: f64) -> Result<(), String> {
+    if half_beam <= size * MAX_HALF_BEAM_RATIO && half_beam * MAX_HALF_BEAM_RATIO >= size {
+        Ok(())
+    } else {
+        Err(format!(
+            "half_beam = {} m is more than {} times larger or smaller than the section's size \
+             {} m (the largest side of its bounding box); R only makes the results \
+             nondimensional, usually half the waterline beam",
+            plain(half_beam),
+            plain(MAX_HALF_BEAM_RATIO),
+            plain(size)
+        ))
+    }
+}
 
 /// Why a hull could not be built: the source (file name, or built-in / hull name), the line
 /// when it came from a file, and the problem.

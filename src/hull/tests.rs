@@ -490,7 +490,12 @@ fn a_contour_of_the_largest_size_is_read_and_a_larger_one_refused() {
     expect_error(
         &hull_xml(&half_circle(40_000), false),
         Some(2),
-        "at most 10000 are accepted",
+        "at most 8192",
+    );
+    expect_error(
+        &hull_xml(&half_circle(MAX_CONTOUR_POINTS + 1), false),
+        Some(2),
+        "the contour has 8193 points; at most 8192",
     );
     let hull = Hull::from_xml_str(&hull_xml(&half_circle(MAX_CONTOUR_POINTS), false), "t.xml");
     assert!(hull.is_ok(), "{:?}", hull.err());
@@ -516,4 +521,163 @@ fn a_hull_file_nested_200000_deep_is_refused_in_a_small_thread() {
         .expect("refused");
     assert!(shown.starts_with("deep.xml:1:"), "{shown}");
     assert!(shown.contains("MAX_DEPTH"), "{shown}");
+}
+
+/// BOX with every contour coordinate multiplied by `scale`.
+fn scaled_box(scale: f64) -> String {
+    let mut text = BOX.to_string();
+    for (x, y) in [
+        ("-2", "0"),
+        ("-2", "-1"),
+        ("0", "-1.5"),
+        ("2", "-1"),
+        ("2", "0"),
+    ] {
+        let scaled = |v: &str| format!("{:e}", v.parse::<f64>().unwrap() * scale);
+        text = text.replace(
+            &format!(r#"<point x="{x}" y="{y}"/>"#),
+            &format!(r#"<point x="{}" y="{}"/>"#, scaled(x), scaled(y)),
+        );
+    }
+    text
+}
+
+#[test]
+fn rejects_lengths_that_cannot_give_meaningful_numbers() {
+    let half_beam = |v: &str| BOX.replace(r#"half_beam="2""#, &format!("half_beam=\"{v}\""));
+    expect_error(
+        &half_beam("1e154"),
+        Some(2),
+        "half_beam = 1e154 m is outside [1e-6, 1000000] m",
+    );
+    expect_error(&half_beam("1e-7"), Some(2), "half_beam = 1e-7 m is outside");
+    // Within the absolute bounds but far from the section's size (4 m).
+    expect_error(
+        &half_beam("5000"),
+        Some(2),
+        "more than 1000 times larger or smaller",
+    );
+    expect_error(
+        &half_beam("0.001"),
+        Some(2),
+        "more than 1000 times larger or smaller",
+    );
+    // Coordinates near 1e-160: the half-beam first, then the section's size.
+    let tiny = scaled_box(1e-160);
+    expect_error(&tiny, Some(3), "the section's size");
+    expect_error(
+        &tiny.replace(r#"half_beam="2""#, r#"half_beam="2e-160""#),
+        Some(2),
+        "half_beam = 2e-160 m",
+    );
+    let far = BOX.replace(r#"<point x="0" y="-1.5"/>"#, r#"<point x="0" y="-1e154"/>"#);
+    expect_error(
+        &far,
+        Some(6),
+        "point (0, -1e154) has a component beyond 1000000 m",
+    );
+    let mode = BOX.replace(r#"<u x="0" y="1"/>"#, r#"<u x="0" y="1e154"/>"#);
+    expect_error(&mode, Some(16), "displacement (0, 1e154)");
+    let faint = BOX
+        .replace(r#"<u x="0.25" y="0"/>"#, r#"<u x="2.5e-161" y="0"/>"#)
+        .replace(r#"<u x="0" y="1"/>"#, r#"<u x="0" y="1e-160"/>"#)
+        .replace(r#"<u x="-0.25" y="0"/>"#, r#"<u x="-2.5e-161" y="0"/>"#);
+    expect_error(
+        &faint,
+        Some(13),
+        "mode 'bottom': its largest displacement component 1e-160 m",
+    );
+    let all_zero = faint.replace("e-161", "e-400").replace("1e-160", "0");
+    expect_error(&all_zero, Some(13), "mode 'bottom' is zero at every point");
+    let reference = BOX.replace(r#"x="0.5" y="-0.5""#, r#"x="1e154" y="-0.5""#);
+    expect_error(&reference, Some(12), "reference point (1e154, -0.5)");
+    let circle = |radius: &str, depth: &str| {
+        format!(
+            "<hull name=\"c\" half_beam=\"1\">\n<circle radius=\"{radius}\" depth=\"{depth}\"/>\n\
+             <rigid name=\"sway\" kind=\"sway\"/>\n</hull>"
+        )
+    };
+    expect_error(
+        &circle("1e154", "0"),
+        Some(2),
+        "radius = 1e154 m is outside",
+    );
+    expect_error(&circle("1", "1e154"), Some(2), "centre (0, -1e154)");
+    for e in [
+        Hull::semicircle(1e154).unwrap_err(),
+        Hull::circle(1e-160, 2.0).unwrap_err(),
+    ] {
+        assert!(e.message().contains("radius = "), "{e}");
+    }
+    assert!(Hull::circle(1.0, 1e154).is_err());
+    // The bounds themselves are accepted.
+    for text in [half_beam("1000"), half_beam("0.004"), scaled_box(2.5e5)] {
+        let text = text.replace(r#"half_beam="2""#, r#"half_beam="5e5""#);
+        Hull::from_xml_str(&text, "edge.xml").unwrap_or_else(|e| panic!("{e}"));
+    }
+    Hull::semicircle(1e6).unwrap();
+    Hull::semicircle(1e-6).unwrap();
+}
+
+#[test]
+fn rejects_more_dofs_than_the_limit() {
+    let dofs = |count: usize| {
+        let rigid: String = (0..count)
+            .map(|k| format!("  <rigid name=\"d{k}\" kind=\"sway\"/>\n"))
+            .collect();
+        BOX.replace("  <rigid name=\"sway\" kind=\"sway\"/>\n", &rigid)
+    };
+    let at_limit = Hull::from_xml_str(&dofs(256 - 3), "many.xml").unwrap();
+    assert_eq!(at_limit.dof_count(), 256);
+    expect_error(
+        &dofs(256 - 2),
+        Some(10 + 256),
+        "one more than the 256 a hull may have",
+    );
+}
+
+#[test]
+fn a_hull_past_the_bounds_gives_no_non_finite_number() {
+    // The reader refuses these; built directly, the sweep must still not return NaN or inf.
+    let good = Hull::from_xml_str(BOX, "box.xml").unwrap();
+    let params = crate::sweep::SweepParams {
+        kr: vec![0.5, 1.0],
+        panels: crate::panels::PanelParams {
+            body_panels: 16,
+            ..crate::panels::PanelParams::default()
+        },
+        extrapolation_levels: 2,
+        threads: 1,
+        ..crate::sweep::SweepParams::default()
+    };
+    for half_beam in [1e154, 1e-160] {
+        let hull = Hull {
+            half_beam,
+            ..good.clone()
+        };
+        match crate::sweep::run(&hull, &params, &|_, _| {}) {
+            Err(e) => assert!(
+                e.to_string().contains("finite") || e.to_string().contains("failed"),
+                "{e}"
+            ),
+            Ok(result) => {
+                let finite = |z: &num_complex::Complex64| z.re.is_finite() && z.im.is_finite();
+                assert!(
+                    result.added_mass.iter().flatten().all(finite),
+                    "R = {half_beam:e}"
+                );
+                assert!(result.added_mass_inf.iter().all(|a| a.is_finite()));
+                assert!(result
+                    .added_mass_zero
+                    .iter()
+                    .flatten()
+                    .all(|a| a.is_finite()));
+                assert!(result
+                    .excitation
+                    .iter()
+                    .all(|w| w.direct.iter().all(finite)));
+                assert!(result.excitation_long_wave.iter().all(|x| x.is_finite()));
+            }
+        }
+    }
 }

@@ -1,0 +1,160 @@
+//! The library under hostile input: sizes past their limits are refused before anything is
+//! allocated, and every number a sweep returns is finite (or the sweep fails saying where).
+
+use hydrofmu::hull::Hull;
+use hydrofmu::panels::{self, PanelParams};
+use hydrofmu::sweep::{self, SweepParams};
+
+/// A fast sweep at `kr`: 16 panels, no extrapolation, one thread.
+fn quick(kr: Vec<f64>) -> SweepParams {
+    SweepParams {
+        kr,
+        panels: PanelParams {
+            body_panels: 16,
+            ..PanelParams::default()
+        },
+        extrapolation_levels: 1,
+        threads: 1,
+        ..SweepParams::default()
+    }
+}
+
+#[test]
+fn grids_past_the_frequency_limit_are_refused_before_allocating() {
+    for count in [100_000_000_000usize, usize::MAX] {
+        let e = sweep::log_grid(0.1, 5.0, count).unwrap_err().to_string();
+        assert!(e.contains("frequencies requested; at most 100000"), "{e}");
+    }
+    assert_eq!(sweep::log_grid(0.1, 5.0, 100_000).unwrap().len(), 100_000);
+}
+
+#[test]
+fn sweep_sizes_past_their_limits_are_refused_before_any_work() {
+    let hull = Hull::semicircle(1.0).unwrap();
+    let base = quick(vec![0.5, 1.0]);
+    let with_panels = |body_panels: usize, levels: usize| SweepParams {
+        panels: PanelParams {
+            body_panels,
+            ..PanelParams::default()
+        },
+        extrapolation_levels: levels,
+        ..base.clone()
+    };
+    let cases = [
+        (
+            with_panels(100_000_000, 1),
+            "100000000 panels requested; at most 8192",
+        ),
+        (with_panels(usize::MAX, 1), "at most 8192"),
+        (
+            with_panels(8192, 13),
+            "13 discretization levels requested; at most 12",
+        ),
+        (with_panels(128, 13), "at most 12"),
+        (
+            SweepParams {
+                threads: 100_000_000,
+                ..base.clone()
+            },
+            "100000000 worker threads requested; at most 1024",
+        ),
+        (
+            quick(vec![0.5; 100_001]),
+            "100001 frequencies requested; at most 100000",
+        ),
+        (quick(Vec::new()), "no frequency"),
+    ];
+    for (params, expected) in cases {
+        // Refused before any work: no frequency reports progress.
+        let progress = std::sync::atomic::AtomicUsize::new(0);
+        let e = sweep::run(&hull, &params, &|_, _| {
+            progress.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains(expected), "'{e}' lacks '{expected}'");
+        assert_eq!(progress.into_inner(), 0, "{expected}: no work before");
+    }
+}
+
+#[test]
+fn a_table_past_its_entry_limit_is_refused() {
+    // 256 DOFs (the hull limit) at 1000 frequencies: 65.5 million entries.
+    let mut text =
+        String::from("<hull name=\"many\" half_beam=\"1\">\n<circle radius=\"1\" depth=\"0\"/>\n");
+    for k in 0..256 {
+        text.push_str(&format!("<rigid name=\"d{k}\" kind=\"heave\"/>\n"));
+    }
+    text.push_str("</hull>\n");
+    let hull = Hull::from_xml_str(&text, "many.xml").unwrap();
+    let params = quick(sweep::log_grid(0.1, 5.0, 1000).unwrap());
+    let progress = std::sync::atomic::AtomicUsize::new(0);
+    let e = sweep::run(&hull, &params, &|_, _| {
+        progress.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains(
+            "65536000 added-mass table entries (frequencies x DOFs^2) requested; at most 20000000"
+        ),
+        "{e}"
+    );
+    assert_eq!(progress.into_inner(), 0, "no work before the refusal");
+}
+
+#[test]
+fn a_lid_past_its_limit_is_refused_before_allocating() {
+    let hull = Hull::semicircle(1.0).unwrap();
+    for lid_density in [1e3, 1e300] {
+        let params = PanelParams {
+            lid_density,
+            ..PanelParams::default()
+        };
+        let e = panels::discretize(&hull, &params).unwrap_err().to_string();
+        assert!(e.contains("lid panels; at most 4096"), "{e}");
+    }
+    // The default lid of the largest mesh stays below the limit.
+    let mesh = panels::discretize(
+        &hull,
+        &PanelParams {
+            body_panels: 8192,
+            ..PanelParams::default()
+        },
+    )
+    .unwrap();
+    assert!(mesh.lid.len() < 4096, "{}", mesh.lid.len());
+}
+
+#[test]
+fn every_number_of_a_sweep_is_finite_or_the_sweep_fails() {
+    let hull = Hull::semicircle(1.0).unwrap();
+    // kR = 1e6: the panel method overflows; alone it leaves nothing, an error.
+    let e = sweep::run(&hull, &quick(vec![1e6]), &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the sweep's only frequency failed; kR = 1000000: "),
+        "{e}"
+    );
+    let e = sweep::run(&hull, &quick(vec![1e6, 1e300]), &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("all 2 frequencies of the sweep failed"), "{e}");
+    // With a good frequency the bad one is a failure with its reason, the rest is finite.
+    let result = sweep::run(&hull, &quick(vec![0.5, 1e6]), &|_, _| {}).unwrap();
+    assert_eq!(result.kr, [0.5]);
+    assert_eq!(result.failures.len(), 1);
+    assert!(
+        result.failures[0].1.contains("non-finite"),
+        "{:?}",
+        result.failures
+    );
+    let finite = |z: &num_complex::Complex64| z.re.is_finite() && z.im.is_finite();
+    assert!(result.added_mass.iter().flatten().all(finite));
+    assert!(result
+        .excitation
+        .iter()
+        .all(|w| w.direct.iter().all(finite)));
+    assert!(result.reciprocity_residual.iter().all(|r| r.is_finite()));
+}
