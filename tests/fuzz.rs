@@ -1,5 +1,6 @@
 //! Mutation fuzzing of every file parser the component and `fmu-pack` read (docs/STABILITY.md):
-//! the generic XML reader, network files (read, realized, stepped), hull files (read, panelled),
+//! the generic XML reader, network files (read, realized, stepped, every value read finite or
+//! refused), hull files (read, panelled),
 //! the options file and the excitation table. Each target starts from valid files and the
 //! crafted cases of the hostile-input issue, mutates them (bit flips, XML-ish bytes, deleted,
 //! repeated or spliced ranges, numbers replaced by extreme ones, truncation) and asserts that
@@ -269,9 +270,20 @@ fn fuzz_network_files() {
             .validate()
             .map_err(|e| format!("read but not valid: {e}"))?;
         if let Ok(mut model) = Model::new(&network, options.clone()) {
-            let _ = model.set_value(hydrofmu::fmu::variables::Quantity::Velocity(0), 1.0);
+            use hydrofmu::fmu::variables::Quantity;
+            let _ = model.set_value(Quantity::Velocity(0), 1.0);
             let _ = model.step(0.0, 0.01);
-            let _ = model.forces();
+            // Every value read is finite, or the read fails.
+            for q in (0..network.dof_count())
+                .map(Quantity::Force)
+                .chain([Quantity::Power, Quantity::Energy])
+            {
+                if let Ok(x) = model.value(q) {
+                    if !x.is_finite() {
+                        return Err(format!("{q:?} = {x} read without an error"));
+                    }
+                }
+            }
         }
         Ok(true)
     });
