@@ -24,33 +24,50 @@ pub(super) fn first_contact(
     closed: bool,
     tolerance: f64,
 ) -> Option<(usize, usize)> {
-    let n = points.len();
-    let seg = |k: usize| (points[k], points[(k + 1) % n]);
-    let neighbours = |i: usize, j: usize| j < i + 2 || (closed && i == 0 && j + 1 == segments);
-    let touch = |i: usize, j: usize| {
-        let ((a, b), (c, d)) = (seg(i), seg(j));
-        !neighbours(i, j) && segment_distance(a, b, c, d) <= tolerance
+    let contour = Segments {
+        points,
+        segments,
+        closed,
+        tolerance,
     };
-    grid_contact(points, segments, closed, tolerance).unwrap_or_else(|| {
-        (0..segments).find_map(|i| (i + 2..segments).find(|&j| touch(i, j)).map(|j| (i, j)))
+    grid_contact(&contour).unwrap_or_else(|| {
+        (0..segments).find_map(|i| {
+            (i + 2..segments)
+                .find(|&j| contour.touch(i, j))
+                .map(|j| (i, j))
+        })
     })
+}
+
+/// The segments of a contour and the contact tolerance.
+struct Segments<'a> {
+    points: &'a [Point],
+    segments: usize,
+    closed: bool,
+    tolerance: f64,
+}
+
+impl Segments<'_> {
+    /// Segment `k`: its start and end.
+    fn segment(&self, k: usize) -> (Point, Point) {
+        let n = self.points.len();
+        (self.points[k], self.points[(k + 1) % n])
+    }
+
+    /// Segments `i < j` are not neighbours along the contour and lie within the tolerance.
+    fn touch(&self, i: usize, j: usize) -> bool {
+        let neighbours = j < i + 2 || (self.closed && i == 0 && j + 1 == self.segments);
+        let ((a, b), (c, d)) = (self.segment(i), self.segment(j));
+        !neighbours && segment_distance(a, b, c, d) <= self.tolerance
+    }
 }
 
 /// [`first_contact`] through the grid, or `None` when the grid would exceed its work budget
 /// (or the contour is too small to need one).
-fn grid_contact(
-    points: &[Point],
-    segments: usize,
-    closed: bool,
-    tolerance: f64,
-) -> Option<Option<(usize, usize)>> {
-    let n = points.len();
-    let seg = |k: usize| (points[k], points[(k + 1) % n]);
-    let neighbours = |i: usize, j: usize| j < i + 2 || (closed && i == 0 && j + 1 == segments);
-    let touch = |i: usize, j: usize| {
-        let ((a, b), (c, d)) = (seg(i), seg(j));
-        !neighbours(i, j) && segment_distance(a, b, c, d) <= tolerance
-    };
+fn grid_contact(contour: &Segments) -> Option<Option<(usize, usize)>> {
+    let (segments, tolerance) = (contour.segments, contour.tolerance);
+    let seg = |k: usize| contour.segment(k);
+    let touch = |i: usize, j: usize| contour.touch(i, j);
     if segments < 16 {
         return None;
     }
@@ -133,6 +150,16 @@ mod tests {
             .collect()
     }
 
+    /// The closed contour of `points` at the tolerance 1e-9.
+    fn contour(points: &[Point]) -> Segments<'_> {
+        Segments {
+            points,
+            segments: points.len(),
+            closed: true,
+            tolerance: 1e-9,
+        }
+    }
+
     /// The plain comparison of every pair, for reference.
     fn every_pair(
         points: &[Point],
@@ -182,12 +209,12 @@ mod tests {
         // 10,000 points: every pair would be 5e7 distance evaluations; the grid compares a few
         // neighbours per segment (at most GRID_WORK_PER_SEGMENT: it answers, no fallback).
         let points = circle(10_000);
-        assert_eq!(grid_contact(&points, 10_000, true, 1e-9), Some(None));
+        assert_eq!(grid_contact(&contour(&points)), Some(None));
         // A contact across the contour is found, the same as by every pair (which, the contact
         // being among the first segments, stops early).
         let mut points = points;
         points[10] = points[5_000];
-        let found = grid_contact(&points, 10_000, true, 1e-9).unwrap().unwrap();
+        let found = grid_contact(&contour(&points)).unwrap().unwrap();
         assert_eq!(found, every_pair(&points, 10_000, true, 1e-9).unwrap());
     }
 }
