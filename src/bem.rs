@@ -105,6 +105,9 @@ pub struct RadiationSolution {
 /// Wave headings of [`WaveForces`], degrees: 0 towards +x, 180 towards -x.
 pub const HEADINGS: [f64; 2] = [0.0, 180.0];
 
+/// The transverse direction cosines of [`HEADINGS`] (see [`Problem::solve_waves`]).
+pub const HEADING_COSINES: [f64; 2] = [1.0, -1.0];
+
 /// Exciting forces per unit wave amplitude and per `rho g`, `x_j = X_j / (rho g a)` (m for
 /// a displacement DOF, m^2 for an angle or mode amplitude), one column per entry of
 /// [`HEADINGS`], one row per DOF.
@@ -317,6 +320,27 @@ impl Problem {
         irregular: IrregularFrequencies,
         excitation: bool,
     ) -> Result<RadiationSolution, BemError> {
+        let cosines: &[f64] = if excitation { &HEADING_COSINES } else { &[] };
+        self.solve_waves(surface, irregular, cosines)
+    }
+
+    /// As [`Problem::solve`], with one incident wave per entry of `transverse`: the wave
+    /// `psi_0 = e^{k y - i k c x}` of transverse direction cosine `c` (1: heading 0, towards
+    /// +x; -1: heading 180; 0: crests across the section, as a ship's section sees head or
+    /// following seas). For `|c| < 1` `psi_0` is the cross-section trace of an oblique 3D wave
+    /// (strip theory); the Haskind value is then the zero-speed Salvesen-Tuck-Faltinsen
+    /// sectional force and the direct value that of a 2D diffraction problem driven by the
+    /// same normal velocity. The columns of [`WaveForces`] follow `transverse`; an empty
+    /// list leaves the exciting forces out.
+    ///
+    /// # Errors
+    /// As [`solve`].
+    pub fn solve_waves(
+        &self,
+        surface: FreeSurface,
+        irregular: IrregularFrequencies,
+        transverse: &[f64],
+    ) -> Result<RadiationSolution, BemError> {
         let mesh = &self.mesh;
         let green = GreenFunction::new(surface)?;
         let use_lid = matches!(surface, FreeSurface::Wave { .. })
@@ -349,8 +373,10 @@ impl Problem {
             }),
         };
         let influence_time = start.elapsed();
-        let wavenumber = match surface {
-            FreeSurface::Wave { wavenumber } if excitation => Some(wavenumber),
+        let waves = match surface {
+            FreeSurface::Wave { wavenumber } if !transverse.is_empty() => {
+                Some((wavenumber, transverse))
+            }
             _ => None,
         };
         solve_system(
@@ -360,7 +386,7 @@ impl Problem {
             potential,
             influence_time,
             lid_count,
-            wavenumber,
+            waves,
         )
     }
 }
@@ -458,16 +484,12 @@ fn influence(
     Influence { system, potential }
 }
 
-/// The incident wave of heading `HEADINGS[h]` on each body panel: the panel means of
-/// `psi_0 = e^{k y -+ i k x}` and of `d(psi_0)/dn`.
-fn incident_wave(mesh: &Mesh, wavenumber: f64, heading: usize) -> Vec<(Complex64, Complex64)> {
+/// The incident wave of transverse direction cosine `cosine` on each body panel: the panel
+/// means of `psi_0 = e^{k y - i k c x}` and of `d(psi_0)/dn`.
+fn incident_wave(mesh: &Mesh, wavenumber: f64, cosine: f64) -> Vec<(Complex64, Complex64)> {
     let k = wavenumber;
-    // grad psi_0 = alpha psi_0, alpha = (-+ i k, k): heading 0 travels towards +x.
-    let alpha = if heading == 0 {
-        [Complex64::new(0.0, -k), Complex64::new(k, 0.0)]
-    } else {
-        [Complex64::new(0.0, k), Complex64::new(k, 0.0)]
-    };
+    // grad psi_0 = alpha psi_0, alpha = (-i k c, k): c = 1 travels towards +x.
+    let alpha = [Complex64::new(0.0, -k * cosine), Complex64::new(k, 0.0)];
     mesh.body
         .iter()
         .map(|panel| {
@@ -497,16 +519,14 @@ fn solve_system(
     potential: Mat<c64>,
     influence_time: Duration,
     lid_count: usize,
-    wavenumber: Option<f64>,
+    waves: Option<(f64, &[f64])>,
 ) -> Result<RadiationSolution, BemError> {
     let body_count = mesh.body.len();
     let unknowns = system.nrows();
     let dof_count = mesh.dof_names.len();
     let start = Instant::now();
-    let incident: Vec<Vec<(Complex64, Complex64)>> = match wavenumber {
-        Some(k) => (0..HEADINGS.len())
-            .map(|h| incident_wave(mesh, k, h))
-            .collect(),
+    let incident: Vec<Vec<(Complex64, Complex64)>> = match waves {
+        Some((k, cosines)) => cosines.iter().map(|&c| incident_wave(mesh, k, c)).collect(),
         None => Vec::new(),
     };
     let mut rhs = Mat::<c64>::zeros(unknowns, dof_count + incident.len());

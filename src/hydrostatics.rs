@@ -211,9 +211,9 @@ impl Section {
     }
 }
 
-/// Whether the contour is a smooth arc (the built-in circles) rather than a polyline.
+/// Whether the contour is smooth (the built-in circles and Lewis forms) rather than a polyline.
 fn is_arc(hull: &Hull) -> bool {
-    hull.breakpoints().len() == 2 && hull.circle_depth_ratio().is_some()
+    hull.breakpoints().len() == 2
 }
 
 /// The intervals of the contour parameter the quadrature runs over: each polyline segment

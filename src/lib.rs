@@ -52,6 +52,7 @@ pub mod panels;
 pub mod passivity;
 pub mod realize;
 pub mod scene;
+pub mod ship;
 pub mod sweep;
 pub mod units;
 pub mod waves;

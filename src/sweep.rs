@@ -26,7 +26,7 @@
 
 use crate::bem::{
     describe_surface, BemError, IrregularFrequencies, Problem, RadiationSolution, WaveForces,
-    HEADINGS,
+    HEADINGS, HEADING_COSINES,
 };
 use crate::green::FreeSurface;
 use crate::hull::Hull;
@@ -339,9 +339,23 @@ impl Solver {
         irregular: IrregularFrequencies,
         excitation: bool,
     ) -> Result<RadiationSolution, BemError> {
+        let cosines: &[f64] = if excitation { &HEADING_COSINES } else { &[] };
+        self.solve_waves(surface, irregular, cosines)
+    }
+
+    /// As [`Solver::solve`], with the incident waves of [`Problem::solve_waves`].
+    ///
+    /// # Errors
+    /// A failure at any level.
+    pub fn solve_waves(
+        &self,
+        surface: FreeSurface,
+        irregular: IrregularFrequencies,
+        transverse: &[f64],
+    ) -> Result<RadiationSolution, BemError> {
         let mut solutions = Vec::with_capacity(self.problems.len());
         for problem in &self.problems {
-            solutions.push(problem.solve_with(surface, irregular, excitation)?);
+            solutions.push(problem.solve_waves(surface, irregular, transverse)?);
         }
         let h: Vec<f64> = self
             .problems

@@ -62,6 +62,33 @@ impl Hull {
         })
     }
 
+    /// The Lewis form of a ship section of waterline breadth `breadth`, draft `draft` and area
+    /// coefficient `area_coefficient` (submerged area over `B T`), with DOFs `sway heave roll`
+    /// (roll about the origin, on the free surface at the centreline) and half-beam `B/2`.
+    /// `B/(2T) = 1` with `pi/4` is the semicircle.
+    ///
+    /// # Errors
+    /// Data out of range or a form that does not exist ([`lewis`](super::lewis)).
+    pub fn lewis(breadth: f64, draft: f64, area_coefficient: f64) -> Result<Hull, HullError> {
+        let source = "built-in Lewis form";
+        let error = |m: String| HullError::new(source, None, m);
+        let form = super::lewis::LewisForm::new(breadth, draft, area_coefficient).map_err(error)?;
+        check_length("breadth", breadth).map_err(error)?;
+        check_length("draft", draft).map_err(error)?;
+        super::check_half_beam_ratio(breadth / 2.0, breadth.max(draft)).map_err(error)?;
+        Ok(Hull {
+            name: "lewis".to_string(),
+            half_beam: breadth / 2.0,
+            contour: Contour::Lewis(form),
+            dofs: vec![
+                rigid("sway", RigidKind::Sway),
+                rigid("heave", RigidKind::Heave),
+                rigid("roll", RigidKind::Roll),
+            ],
+            notes: Vec::new(),
+        })
+    }
+
     /// The built-in circle of radius `radius` with centre at (0, -H), H = `depth_over_radius`
     /// times the radius, closed, with DOFs `sway heave roll` (roll about the origin).
     /// H/R = 0 gives [`Hull::semicircle`]; 0 < H/R <= 1 (the circle pierces or touches the free

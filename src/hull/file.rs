@@ -63,6 +63,12 @@ impl Hull {
                 num(*radius),
                 num(*depth)
             )),
+            Contour::Lewis(form) => out.push_str(&format!(
+                "  <lewis breadth=\"{}\" draft=\"{}\" area_coefficient=\"{}\"/>\n",
+                num(form.breadth),
+                num(form.draft),
+                num(form.area_coefficient)
+            )),
             Contour::Polyline { points, closed, .. } => {
                 out.push_str(&format!("  <contour closed=\"{closed}\">\n"));
                 for p in points {
@@ -145,13 +151,13 @@ fn vectors(
     Ok((values, lines))
 }
 
-fn valid_dof_name(name: &str) -> bool {
+pub(crate) fn valid_dof_name(name: &str) -> bool {
     let mut chars = name.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-fn valid_hull_name(name: &str) -> bool {
+pub(crate) fn valid_hull_name(name: &str) -> bool {
     let mut chars = name.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphanumeric())
         && chars.all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
@@ -167,6 +173,10 @@ enum Geometry {
         points: Vec<Point>,
         lines: Vec<usize>,
         closed: bool,
+        line: usize,
+    },
+    Lewis {
+        form: super::lewis::LewisForm,
         line: usize,
     },
 }
@@ -235,9 +245,11 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
     let mut dofs: Vec<FileDof> = Vec::new();
     for child in &root.children {
         let line = child.line;
-        if matches!(child.name.as_str(), "contour" | "circle") {
+        if matches!(child.name.as_str(), "contour" | "circle" | "lewis") {
             if let Some(
-                Geometry::Circle { line: first, .. } | Geometry::Polyline { line: first, .. },
+                Geometry::Circle { line: first, .. }
+                | Geometry::Polyline { line: first, .. }
+                | Geometry::Lewis { line: first, .. },
             ) = &geometry
             {
                 return Err(err(
@@ -300,6 +312,20 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     depth,
                     line,
                 });
+            }
+            "lewis" => {
+                let breadth = child.required_number("breadth").map_err(at)?;
+                let draft = child.required_number("draft").map_err(at)?;
+                let sigma = child.required_number("area_coefficient").map_err(at)?;
+                child
+                    .only_attributes(&["breadth", "draft", "area_coefficient"])
+                    .map_err(at)?;
+                child.no_children().map_err(at)?;
+                check_length("breadth", breadth).map_err(|m| err(line, m))?;
+                check_length("draft", draft).map_err(|m| err(line, m))?;
+                let form = super::lewis::LewisForm::new(breadth, draft, sigma)
+                    .map_err(|m| err(line, m))?;
+                geometry = Some(Geometry::Lewis { form, line });
             }
             "rigid" | "craig_bampton" | "mode" => {
                 let dof_name = child.required("name").map_err(at)?;
@@ -394,8 +420,8 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                 return Err(err(
                     line,
                     format!(
-                        "unknown element <{other}> in <hull>; expected contour, circle, rigid, \
-                         craig_bampton or mode"
+                        "unknown element <{other}> in <hull>; expected contour, circle, lewis, \
+                         rigid, craig_bampton or mode"
                     ),
                 ))
             }
@@ -405,7 +431,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
     let geometry = geometry.ok_or_else(|| {
         err(
             root.line,
-            "the hull has no geometry: add a <contour> (or a <circle>)".to_string(),
+            "the hull has no geometry: add a <contour> (or a <circle> or <lewis>)".to_string(),
         )
     })?;
     if dofs.is_empty() {
@@ -416,6 +442,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
     }
     let (size, geometry_line) = match &geometry {
         Geometry::Circle { radius, line, .. } => (2.0 * radius, *line),
+        Geometry::Lewis { form, line } => (form.breadth.max(form.draft), *line),
         Geometry::Polyline { points, line, .. } => {
             let extent = |k: usize| {
                 let (lo, hi) = points
@@ -471,6 +498,22 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                 },
                 None,
             )
+        }
+        Geometry::Lewis { form, .. } => {
+            if let Some(dof) = dofs
+                .iter()
+                .find(|d| !matches!(d.field, FileField::Rigid(..)))
+            {
+                return Err(err(
+                    dof.line,
+                    format!(
+                        "DOF '{}': a <lewis> section takes rigid DOFs only (its contour has no \
+                         points for mode vectors); write the contour as <contour>",
+                        dof.name
+                    ),
+                ));
+            }
+            (Contour::Lewis(form), None)
         }
         Geometry::Polyline {
             mut points,
@@ -544,7 +587,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     mode,
                     coefficients: match contour {
                         Contour::Arc { radius, .. } => craig_bampton_coefficients(radius)[mode - 1],
-                        Contour::Polyline { .. } => [f64::NAN; 6],
+                        Contour::Lewis(_) | Contour::Polyline { .. } => [f64::NAN; 6],
                     },
                 },
                 FileField::Vectors(v) => Field::Vectors(match &order {

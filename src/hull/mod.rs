@@ -36,7 +36,8 @@
 //! the network fit with their cube; a contour at most [`MAX_CONTOUR_POINTS`] points.
 //!
 //! # Where things are
-//! * `builtin.rs`: [`Hull::semicircle`] and [`Hull::circle`], exact arcs with analytic fields;
+//! * `builtin.rs`: [`Hull::semicircle`] and [`Hull::circle`], exact arcs with analytic fields,
+//!   and [`Hull::lewis`], the Lewis form of a ship section (`lewis.rs`);
 //! * `craig_bampton.rs`: the thin-beam modes of the semicircle (seed eqs. 4-6);
 //! * `file.rs`: hull files (`docs/HULL_FORMAT.md`) read with [`crate::xml`] and written back;
 //! * `validate.rs`: the geometric checks of a file's contour (waterline, self-contact,
@@ -46,6 +47,8 @@ mod builtin;
 mod contact;
 mod craig_bampton;
 mod file;
+pub(crate) use file::{valid_dof_name, valid_hull_name};
+mod lewis;
 mod units;
 mod validate;
 
@@ -247,6 +250,8 @@ enum Contour {
         depth: f64,
         depth_ratio: f64,
     },
+    /// The Lewis form of a ship section (open, `lewis.rs`).
+    Lewis(lewis::LewisForm),
     /// `knots[i]`: s at vertex i; closed contours have one more knot (1.0, back at vertex 0).
     Polyline {
         points: Vec<Point>,
@@ -289,6 +294,7 @@ impl Hull {
     pub fn is_closed(&self) -> bool {
         match &self.contour {
             Contour::Arc { depth, .. } => *depth > 0.0,
+            Contour::Lewis(_) => false,
             Contour::Polyline { closed, .. } => *closed,
         }
     }
@@ -318,6 +324,60 @@ impl Hull {
     /// Notes on corrections made while reading (e.g. a reversed contour); empty for built-ins.
     pub fn notes(&self) -> &[String] {
         &self.notes
+    }
+
+    /// The section as a ship's strip sees it: rigid `sway`, `heave` and `roll` about the origin
+    /// (the ship's centreline on the free surface), then the elastic DOFs named in `elastic`,
+    /// in that order. The hull's own rigid DOFs are replaced.
+    ///
+    /// # Errors
+    /// A name in `elastic` that is not an elastic DOF of the hull, or repeated.
+    pub fn ship_section(&self, elastic: &[&str]) -> Result<Hull, HullError> {
+        let origin = [0.0, 0.0];
+        let mut dofs: Vec<Dof> = [RigidKind::Sway, RigidKind::Heave, RigidKind::Roll]
+            .into_iter()
+            .map(|kind| Dof {
+                name: kind.as_str().to_string(),
+                field: Field::Rigid {
+                    kind,
+                    reference: origin,
+                },
+            })
+            .collect();
+        for (k, name) in elastic.iter().enumerate() {
+            let found = self
+                .dofs
+                .iter()
+                .find(|d| d.name == *name && !matches!(d.field, Field::Rigid { .. }));
+            match found {
+                Some(d) if !elastic[..k].contains(name) => dofs.push(d.clone()),
+                _ => {
+                    let available: Vec<&str> = self
+                        .dofs
+                        .iter()
+                        .filter(|d| !matches!(d.field, Field::Rigid { .. }))
+                        .map(|d| d.name.as_str())
+                        .collect();
+                    return Err(HullError::new(
+                        &self.name,
+                        None,
+                        format!(
+                            "'{name}' is not an elastic DOF of the section (or is named twice); \
+                             its elastic DOFs: {}",
+                            if available.is_empty() {
+                                "none".to_string()
+                            } else {
+                                available.join(" ")
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(Hull {
+            dofs,
+            ..self.clone()
+        })
     }
 
     /// A hull with only the DOFs named, in the order given. An unknown or repeated name, or an
@@ -362,6 +422,7 @@ impl Hull {
         match &self.contour {
             Contour::Arc { radius, depth, .. } if *depth > 0.0 => 2.0 * PI * radius,
             Contour::Arc { radius, .. } => PI * radius,
+            Contour::Lewis(form) => form.length,
             Contour::Polyline { length, .. } => *length,
         }
     }
@@ -374,6 +435,7 @@ impl Hull {
                 let (sn, cs) = arc_sin_cos(*depth, s);
                 [-radius * cs, -depth - radius * sn]
             }
+            Contour::Lewis(form) => form.point(s),
             Contour::Polyline { points, knots, .. } => {
                 let (i, j, t) = locate(knots, points.len(), s);
                 lerp(points[i], points[j], t)
@@ -390,6 +452,7 @@ impl Hull {
                 let (sn, cs) = arc_sin_cos(*depth, s);
                 [sn, -cs]
             }
+            Contour::Lewis(form) => form.tangent(s),
             Contour::Polyline { points, knots, .. } => {
                 let (i, j, _) = locate(knots, points.len(), s);
                 let d = [points[j][0] - points[i][0], points[j][1] - points[i][1]];
@@ -440,7 +503,7 @@ impl Hull {
     /// and the mode vectors have kinks there), plus 1.0 for a closed contour.
     pub fn breakpoints(&self) -> Vec<f64> {
         match &self.contour {
-            Contour::Arc { .. } => vec![0.0, 1.0],
+            Contour::Arc { .. } | Contour::Lewis(_) => vec![0.0, 1.0],
             Contour::Polyline { knots, .. } => knots.clone(),
         }
     }

@@ -11,7 +11,7 @@ impl Hull {
     pub fn circle_depth_ratio(&self) -> Option<f64> {
         match &self.contour {
             Contour::Arc { depth_ratio, .. } => Some(*depth_ratio),
-            Contour::Polyline { .. } => None,
+            Contour::Lewis(_) | Contour::Polyline { .. } => None,
         }
     }
 

@@ -1,0 +1,315 @@
+//! Ship files (`docs/SHIP_FORMAT.md`), read with [`crate::xml`]. Every error names the file,
+//! the line, the station and the field.
+
+use super::{SectionMotion, Ship, ShipDof, ShipError, Station, MAX_ELASTIC_MODES, RIGID_DOFS};
+use crate::hull::{valid_dof_name, valid_hull_name, Hull};
+use crate::xml::{self, Element};
+use std::path::{Path, PathBuf};
+
+impl Ship {
+    /// Reads a ship file; hull files it names are found relative to its folder.
+    ///
+    /// # Errors
+    /// An unreadable or malformed file, or a ship that fails [`Ship::new`]'s checks.
+    pub fn from_file(path: &Path) -> Result<Ship, ShipError> {
+        let source = path.display().to_string();
+        let text = read_bounded(path).map_err(|m| ShipError::new(&source, None, m))?;
+        let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Ship::from_xml_str(&text, &source, &folder)
+    }
+
+    /// Parses ship XML; `source_name` names it in errors, `folder` is where its hull files are.
+    ///
+    /// # Errors
+    /// As [`Ship::from_file`].
+    pub fn from_xml_str(text: &str, source_name: &str, folder: &Path) -> Result<Ship, ShipError> {
+        let root =
+            xml::parse(text).map_err(|e| ShipError::new(source_name, Some(e.line), e.message))?;
+        build(&root, source_name, folder)
+    }
+}
+
+fn read_bounded(path: &Path) -> Result<String, String> {
+    let length = std::fs::metadata(path)
+        .map_err(|e| format!("cannot read the file: {e}"))?
+        .len();
+    if length > xml::MAX_INPUT_BYTES as u64 {
+        return Err(format!(
+            "the file has {length} bytes; at most {} are read",
+            xml::MAX_INPUT_BYTES
+        ));
+    }
+    std::fs::read_to_string(path).map_err(|e| format!("cannot read the file: {e}"))
+}
+
+fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError> {
+    let err = |line: usize, m: String| ShipError::new(source, Some(line), m);
+    let at = |e: xml::XmlError| ShipError::new(source, Some(e.line), e.message);
+    if root.name != "ship" {
+        return Err(err(
+            root.line,
+            format!("top-level element is <{}>, expected <ship>", root.name),
+        ));
+    }
+    if let Some(element) = root.descendants().find(|e| e.has_text()) {
+        return Err(err(
+            element.text_line,
+            "unexpected text: values go in attributes, e.g. <station x=\"10\">".to_string(),
+        ));
+    }
+    root.only_attributes(&["name", "units", "version"])
+        .map_err(at)?;
+    let name = root.required("name").map_err(at)?;
+    if !valid_hull_name(name) {
+        return Err(err(
+            root.line,
+            format!(
+                "ship name \"{name}\" must start with a letter or digit and contain only \
+                 letters, digits, '_', '-' and '.'"
+            ),
+        ));
+    }
+    if root.attribute("units").is_some_and(|u| u != "m") {
+        return Err(err(root.line, "units must be \"m\" if given".to_string()));
+    }
+    if root.attribute("version").is_some_and(|v| v != "1") {
+        return Err(err(root.line, "version must be \"1\" if given".to_string()));
+    }
+
+    let mut stations: Vec<Station> = Vec::new();
+    let mut station_lines: Vec<usize> = Vec::new();
+    let mut sections: Vec<Hull> = Vec::new();
+    let mut fingerprints: Vec<String> = Vec::new();
+    let mut files: Vec<(PathBuf, Hull)> = Vec::new();
+    let mut rigid: Option<(Vec<String>, usize)> = None;
+    let mut modes: Vec<(&Element, String)> = Vec::new();
+    for child in &root.children {
+        let line = child.line;
+        match child.name.as_str() {
+            "station" => {
+                if stations.len() == super::MAX_STATIONS {
+                    return Err(err(
+                        line,
+                        format!("more than {} stations", super::MAX_STATIONS),
+                    ));
+                }
+                child.only_attributes(&["x"]).map_err(at)?;
+                let x = child.required_number("x").map_err(at)?;
+                let number = stations.len() + 1;
+                if child.children.len() > 1 {
+                    return Err(err(
+                        child.children[1].line,
+                        format!("station {number} at x = {x} m has more than one section"),
+                    ));
+                }
+                let section = match child.children.first() {
+                    None => None,
+                    Some(shape) => {
+                        let hull = section_of(shape, source, folder, &mut files).map_err(|m| {
+                            err(shape.line, format!("station {number} at x = {x} m: {m}"))
+                        })?;
+                        let print = hull.fingerprint();
+                        Some(match fingerprints.iter().position(|f| *f == print) {
+                            Some(k) => k,
+                            None => {
+                                fingerprints.push(print);
+                                sections.push(hull);
+                                sections.len() - 1
+                            }
+                        })
+                    }
+                };
+                stations.push(Station { x, section });
+                station_lines.push(line);
+            }
+            "rigid" => {
+                if let Some((_, first)) = &rigid {
+                    return Err(err(
+                        line,
+                        format!("second <rigid>: the rigid DOFs are given on line {first}"),
+                    ));
+                }
+                child.only_attributes(&["dofs"]).map_err(at)?;
+                child.no_children().map_err(at)?;
+                let words: Vec<String> = child
+                    .required("dofs")
+                    .map_err(at)?
+                    .split_whitespace()
+                    .map(str::to_string)
+                    .collect();
+                for (k, word) in words.iter().enumerate() {
+                    if !RIGID_DOFS.contains(&word.as_str()) {
+                        return Err(err(
+                            line,
+                            format!(
+                                "rigid DOF '{word}' is not one of {} (surge is left out: a \
+                                 slender section has no sectional force along x)",
+                                RIGID_DOFS.join(" ")
+                            ),
+                        ));
+                    }
+                    if words[..k].contains(word) {
+                        return Err(err(line, format!("rigid DOF '{word}' is named twice")));
+                    }
+                }
+                rigid = Some((words, line));
+            }
+            "mode" => {
+                child.only_attributes(&["name"]).map_err(at)?;
+                let mode_name = child.required("name").map_err(at)?;
+                if !valid_dof_name(mode_name) || RIGID_DOFS.contains(&mode_name) {
+                    return Err(err(
+                        line,
+                        format!(
+                            "mode name \"{mode_name}\" must start with a letter or '_', contain \
+                             only letters, digits and '_', and not be a rigid DOF's name"
+                        ),
+                    ));
+                }
+                if modes.len() == MAX_ELASTIC_MODES {
+                    return Err(err(line, format!("more than {MAX_ELASTIC_MODES} modes")));
+                }
+                if let Some((first, _)) = modes.iter().find(|(_, n)| n == mode_name) {
+                    return Err(err(
+                        line,
+                        format!(
+                            "mode '{mode_name}' is defined twice (first on line {})",
+                            first.line
+                        ),
+                    ));
+                }
+                modes.push((child, mode_name.to_string()));
+            }
+            other => {
+                return Err(err(
+                    line,
+                    format!("unknown element <{other}> in <ship>; expected station, rigid or mode"),
+                ))
+            }
+        }
+    }
+
+    let mut dofs: Vec<ShipDof> = rigid
+        .map(|(words, _)| words)
+        .unwrap_or_else(|| RIGID_DOFS.iter().map(|s| s.to_string()).collect())
+        .into_iter()
+        .map(|name| ShipDof {
+            name,
+            motions: None,
+        })
+        .collect();
+    for (element, mode_name) in modes {
+        if element.children.len() != stations.len() {
+            return Err(err(
+                element.line,
+                format!(
+                    "mode '{mode_name}' has {} <at> motions but the ship has {} stations (one \
+                     per station, in order)",
+                    element.children.len(),
+                    stations.len()
+                ),
+            ));
+        }
+        let mut motions = Vec::with_capacity(stations.len());
+        for (k, (at_element, station)) in element.children.iter().zip(&stations).enumerate() {
+            let line = at_element.line;
+            let here = |m: String| {
+                err(
+                    line,
+                    format!(
+                        "mode '{mode_name}', station {} at x = {} m: {m}",
+                        k + 1,
+                        station.x
+                    ),
+                )
+            };
+            if at_element.name != "at" {
+                return Err(here(format!(
+                    "unknown element <{}>; expected <at>",
+                    at_element.name
+                )));
+            }
+            at_element.no_children().map_err(at)?;
+            let mut motion = SectionMotion {
+                sway: 0.0,
+                heave: 0.0,
+                roll: 0.0,
+                amplitudes: Vec::new(),
+            };
+            for (key, value) in &at_element.attributes {
+                let number = xml::parse_number(value)
+                    .map_err(|m| here(format!("field {key}=\"{value}\": {m}")))?;
+                match key.as_str() {
+                    "x" => {
+                        if (number - station.x).abs() > 1e-9 * station.x.abs().max(1.0) {
+                            return Err(here(format!(
+                                "x = {number} m is not the station's x = {} m",
+                                station.x
+                            )));
+                        }
+                    }
+                    "v" => motion.sway = number,
+                    "w" => motion.heave = number,
+                    "theta" => motion.roll = number,
+                    amplitude => motion.amplitudes.push((amplitude.to_string(), number)),
+                }
+            }
+            motions.push(motion);
+        }
+        dofs.push(ShipDof {
+            name: mode_name,
+            motions: Some(motions),
+        });
+    }
+    Ship::new(name, stations, sections, dofs, source).map_err(|e| {
+        // Point at the ship element when Ship::new found the problem.
+        ShipError::new(
+            source,
+            e.line().or(Some(root.line)),
+            e.message().to_string(),
+        )
+    })
+}
+
+/// The section of one station: `<semicircle radius>`, `<lewis breadth draft
+/// area_coefficient>` or `<hull file>` (relative to the ship file's folder).
+fn section_of(
+    shape: &Element,
+    source: &str,
+    folder: &Path,
+    files: &mut Vec<(PathBuf, Hull)>,
+) -> Result<Hull, String> {
+    let message = |e: xml::XmlError| e.message;
+    shape.no_children().map_err(message)?;
+    match shape.name.as_str() {
+        "semicircle" => {
+            shape.only_attributes(&["radius"]).map_err(message)?;
+            let radius = shape.required_number("radius").map_err(message)?;
+            Hull::semicircle(radius).map_err(|e| e.message().to_string())
+        }
+        "lewis" => {
+            shape
+                .only_attributes(&["breadth", "draft", "area_coefficient"])
+                .map_err(message)?;
+            let breadth = shape.required_number("breadth").map_err(message)?;
+            let draft = shape.required_number("draft").map_err(message)?;
+            let sigma = shape.required_number("area_coefficient").map_err(message)?;
+            Hull::lewis(breadth, draft, sigma).map_err(|e| e.message().to_string())
+        }
+        "hull" => {
+            shape.only_attributes(&["file"]).map_err(message)?;
+            let file = folder.join(shape.required("file").map_err(message)?);
+            if let Some((_, hull)) = files.iter().find(|(p, _)| *p == file) {
+                return Ok(hull.clone());
+            }
+            let text = read_bounded(&file).map_err(|m| format!("{}: {m}", file.display()))?;
+            let hull = Hull::from_xml_str(&text, &file.display().to_string())
+                .map_err(|e| format!("in the section's hull file: {e}"))?;
+            files.push((file, hull.clone()));
+            Ok(hull)
+        }
+        other => Err(format!(
+            "unknown section <{other}> (in {source}); expected semicircle, lewis or hull"
+        )),
+    }
+}

@@ -1,0 +1,646 @@
+//! The ship's sweep: every distinct section solved at every frequency (in parallel), then the
+//! strip integration of the module docs into whole-ship coefficients in SI.
+//!
+//! Each section is solved with the panel method of [`crate::bem`] for its rigid sway, heave
+//! and roll about the origin and the elastic DOFs the ship's modes use
+//! ([`Hull::ship_section`]), Richardson-extrapolated over the discretization levels as a
+//! section sweep is ([`Solver`]). The incident wave of heading `beta` reaches the section at
+//! `x` as `e^{-i k x cos beta}` times a 2D wave of transverse direction cosine `sin beta`
+//! ([`crate::bem::Problem::solve_waves`]); the sectional force is the Haskind form, the
+//! zero-speed Salvesen-Tuck-Faltinsen one. The sectional restoring is
+//! [`crate::hydrostatics::stiffness`]; rigid pitch adds `rho g V z_B` (the buoyancy's own
+//! moment arm, as roll's closed form has per section).
+
+use super::{SectionMotion, Ship};
+use crate::bem::{IrregularFrequencies, RadiationSolution};
+use crate::green::FreeSurface;
+use crate::hull::Hull;
+use crate::hydrostatics::{self, HydrostaticsError};
+use crate::panels::PanelParams;
+use crate::sweep::{log_grid, Solver, SweepError, SweepParams};
+use crate::xml::{format_number, Notation};
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+use rayon::prelude::*;
+use std::fmt;
+use std::io::Write;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// 8-point Gauss-Legendre nodes and weights on [-1, 1].
+const GAUSS: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+];
+
+/// Most wave headings of one ship sweep.
+pub const MAX_HEADINGS: usize = crate::waves::MAX_HEADINGS;
+
+/// Parameters of a ship sweep, with documented defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShipSweepParams {
+    /// Wave frequencies omega, rad/s (each finite and > 0). Default
+    /// ([`ShipSweepParams::for_ship`]): 100 log-spaced points from `kR = 0.01` to `kR = 5`,
+    /// R the largest section half-beam.
+    pub omega: Vec<f64>,
+    /// Wave headings, degrees (0: towards +x, following seas; 90: towards +y; 180: head
+    /// seas). Default 0, 45, 90, 135, 180.
+    pub headings: Vec<f64>,
+    /// Discretization of every section. Default 64 body panels (a ship's sections are
+    /// smooth and many; docs/SHIPS.md gives the error against 128).
+    pub panels: PanelParams,
+    /// Discretization levels extrapolated (see [`Solver`]). Default 3.
+    pub extrapolation_levels: usize,
+    /// Irregular frequencies. Default: removed with an interior lid.
+    pub irregular_frequencies: IrregularFrequencies,
+    /// Worker threads (explicit). Default 2.
+    pub threads: usize,
+    /// Water density, kg/m^3. Default 1025.
+    pub rho: f64,
+    /// Gravity, m/s^2. Default 9.81.
+    pub g: f64,
+}
+
+impl ShipSweepParams {
+    /// The defaults for `ship` (see the fields).
+    pub fn for_ship(ship: &Ship) -> Self {
+        let g = 9.81;
+        let radius = ship
+            .sections()
+            .iter()
+            .map(Hull::reference_half_beam)
+            .fold(0.0, f64::max);
+        let omega = log_grid(0.01, 5.0, 100)
+            .expect("a valid grid")
+            .iter()
+            .map(|kr| crate::units::omega_from_kr(*kr, radius, g))
+            .collect();
+        Self {
+            omega,
+            headings: vec![0.0, 45.0, 90.0, 135.0, 180.0],
+            panels: PanelParams {
+                body_panels: 64,
+                ..PanelParams::default()
+            },
+            extrapolation_levels: 3,
+            irregular_frequencies: IrregularFrequencies::RemoveWithLid,
+            threads: 2,
+            rho: 1025.0,
+            g,
+        }
+    }
+}
+
+/// Why a ship sweep could not run or gave nothing.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum ShipSweepError {
+    /// A parameter out of range.
+    Parameters(String),
+    /// A section could not be prepared or its limits failed.
+    Section {
+        /// The first station with this section, m.
+        station_x: f64,
+        /// The cause.
+        cause: SweepError,
+    },
+    /// A section's restoring is not finite.
+    Hydrostatics(HydrostaticsError),
+    /// Every frequency failed.
+    NothingComputed {
+        /// Each frequency (rad/s) with the reason.
+        failures: Vec<(f64, String)>,
+    },
+}
+
+impl fmt::Display for ShipSweepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ShipSweepError::Parameters(m) => write!(f, "{m}"),
+            ShipSweepError::Section { station_x, cause } => {
+                write!(f, "the section at x = {station_x} m: {cause}")
+            }
+            ShipSweepError::Hydrostatics(e) => write!(f, "{e}"),
+            ShipSweepError::NothingComputed { failures } => {
+                write!(f, "every frequency failed")?;
+                if let Some((omega, why)) = failures.first() {
+                    write!(f, "; the first, omega = {omega} rad/s: {why}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl std::error::Error for ShipSweepError {}
+
+/// Whole-ship coefficients in SI (DESIGN.md, "Ships").
+#[derive(Clone, Debug)]
+pub struct ShipSweep {
+    /// Ship name.
+    pub ship_name: String,
+    /// DOF names.
+    pub dof_names: Vec<String>,
+    /// Water density used, kg/m^3.
+    pub rho: f64,
+    /// Gravity used, m/s^2.
+    pub g: f64,
+    /// The frequencies computed, rad/s, ascending.
+    pub omega: Vec<f64>,
+    /// `A~_rs(omega)` in SI (kg, kg m, kg m^2), `Im = -b/omega`.
+    pub added_mass: Vec<DMatrix<Complex64>>,
+    /// `A_inf` in SI.
+    pub added_mass_inf: DMatrix<f64>,
+    /// Headings of the excitation columns, degrees.
+    pub headings: Vec<f64>,
+    /// Exciting force per unit wave amplitude (N/m, N m/m), one column per heading: the
+    /// zero-speed Salvesen-Tuck-Faltinsen force.
+    pub excitation: Vec<DMatrix<Complex64>>,
+    /// The Froude-Krylov part of the same.
+    pub froude_krylov: Vec<DMatrix<Complex64>>,
+    /// Hydrostatic restoring (N/m, N, N m), buoyancy part (DESIGN.md).
+    pub stiffness_hydrostatic: DMatrix<f64>,
+    /// Frequencies that failed, with the reason.
+    pub failures: Vec<(f64, String)>,
+    /// Physics sanity warnings.
+    pub warnings: Vec<String>,
+    /// Body panels of each distinct section (finest level).
+    pub body_panels: Vec<usize>,
+}
+
+/// One Gauss point's share of one station's section: `weight * T^T Q T` with `T` the
+/// section coordinates of every ship DOF.
+struct Share {
+    section: usize,
+    x: f64,
+    weight: f64,
+    /// Section DOFs x ship DOFs.
+    coordinates: DMatrix<f64>,
+}
+
+/// Elastic section DOFs used by the ship's modes, per section, in first-use order.
+fn elastic_names(ship: &Ship) -> Vec<Vec<String>> {
+    let mut names = vec![Vec::<String>::new(); ship.sections().len()];
+    for dof in ship.dofs() {
+        let Some(motions) = &dof.motions else {
+            continue;
+        };
+        for (motion, station) in motions.iter().zip(ship.stations()) {
+            if let Some(k) = station.section {
+                for (name, _) in &motion.amplitudes {
+                    if !names[k].contains(name) {
+                        names[k].push(name.clone());
+                    }
+                }
+            }
+        }
+    }
+    names
+}
+
+/// The section coordinates (sway, heave, roll, elastic amplitudes in `elastic` order) of
+/// `motion`.
+fn coordinates(motion: &SectionMotion, elastic: &[String]) -> Vec<f64> {
+    let mut c = vec![motion.sway, motion.heave, motion.roll];
+    c.extend(elastic.iter().map(|name| {
+        motion
+            .amplitudes
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0.0, |(_, a)| *a)
+    }));
+    c
+}
+
+/// The Gauss shares of every interval between stations.
+fn shares(ship: &Ship, elastic: &[Vec<String>]) -> Vec<Share> {
+    let stations = ship.stations();
+    let n = ship.dofs().len();
+    let mut out = Vec::new();
+    for i in 0..stations.len() - 1 {
+        let (a, b) = (stations[i].x, stations[i + 1].x);
+        let half = (b - a) / 2.0;
+        let motions: Vec<[SectionMotion; 2]> = (0..n)
+            .map(|r| [ship.motion(r, i), ship.motion(r, i + 1)])
+            .collect();
+        for &(node, gauss_weight) in &GAUSS {
+            let t = (node + 1.0) / 2.0;
+            let x = a + half * (node + 1.0);
+            for (end, end_weight) in [(i, 1.0 - t), (i + 1, t)] {
+                let Some(section) = stations[end].section else {
+                    continue;
+                };
+                let names = &elastic[section];
+                let mut coordinates_at = DMatrix::zeros(3 + names.len(), n);
+                for (r, pair) in motions.iter().enumerate() {
+                    let (c0, c1) = (coordinates(&pair[0], names), coordinates(&pair[1], names));
+                    for (k, (u, v)) in c0.iter().zip(&c1).enumerate() {
+                        coordinates_at[(k, r)] = (1.0 - t) * u + t * v;
+                    }
+                }
+                out.push(Share {
+                    section,
+                    x,
+                    weight: end_weight * gauss_weight * half,
+                    coordinates: coordinates_at,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// `sum weight T^T Q_section T` over the shares.
+fn integrate_real(shares: &[Share], n: usize, of: impl Fn(usize) -> DMatrix<f64>) -> DMatrix<f64> {
+    let mut total = DMatrix::zeros(n, n);
+    for share in shares {
+        let q = of(share.section);
+        total += share.coordinates.transpose() * q * &share.coordinates * share.weight;
+    }
+    total
+}
+
+fn integrate_complex(
+    shares: &[Share],
+    n: usize,
+    of: &dyn Fn(usize) -> DMatrix<Complex64>,
+) -> DMatrix<Complex64> {
+    let mut total = DMatrix::<Complex64>::zeros(n, n);
+    for share in shares {
+        let t = share.coordinates.map(|v| Complex64::new(v, 0.0));
+        total += t.transpose() * of(share.section) * &t * Complex64::new(share.weight, 0.0);
+    }
+    total
+}
+
+/// Runs the ship's sweep. `progress(done, total)` after each section solve.
+///
+/// # Errors
+/// Parameters out of range (checked before any allocation, with the section sweep's bounds
+/// for every section), a section whose meshes or frequency limits fail, a non-finite restoring,
+/// or a sweep in which every frequency failed. Failures at single frequencies are not errors.
+pub fn run(
+    ship: &Ship,
+    params: &ShipSweepParams,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<ShipSweep, ShipSweepError> {
+    let bad = |m: String| ShipSweepError::Parameters(m);
+    for (what, value) in [("rho", params.rho), ("g", params.g)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(bad(format!(
+                "{what} must be positive and finite, got {value}"
+            )));
+        }
+    }
+    if params.headings.is_empty() || params.headings.len() > MAX_HEADINGS {
+        return Err(bad(format!(
+            "{} headings; give 1 to {MAX_HEADINGS}",
+            params.headings.len()
+        )));
+    }
+    if let Some(h) = params.headings.iter().find(|h| !h.is_finite()) {
+        return Err(bad(format!("heading {h} is not finite")));
+    }
+    if let Some(w) = params.omega.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
+        return Err(bad(format!(
+            "frequency {w} rad/s must be positive and finite"
+        )));
+    }
+    let elastic = elastic_names(ship);
+    let sections: Vec<Hull> = ship
+        .sections()
+        .iter()
+        .zip(&elastic)
+        .map(|(hull, names)| {
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            hull.ship_section(&names)
+        })
+        .collect::<Result<_, _>>()
+        .map_err(|e| bad(e.to_string()))?;
+    let first_x = |k: usize| {
+        ship.stations()
+            .iter()
+            .find(|s| s.section == Some(k))
+            .map_or(f64::NAN, |s| s.x)
+    };
+    let section_error = |k: usize| {
+        move |cause| ShipSweepError::Section {
+            station_x: first_x(k),
+            cause,
+        }
+    };
+    for (k, hull) in sections.iter().enumerate() {
+        let as_section = SweepParams {
+            kr: params
+                .omega
+                .iter()
+                .map(|w| crate::units::kr_from_omega(*w, hull.reference_half_beam(), params.g))
+                .collect(),
+            panels: params.panels,
+            irregular_frequencies: params.irregular_frequencies,
+            extrapolation_levels: params.extrapolation_levels,
+            threads: params.threads,
+            excitation: true,
+        };
+        as_section.validate(hull).map_err(section_error(k))?;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(params.threads)
+        .build()
+        .map_err(|e| bad(format!("cannot start {} threads: {e}", params.threads)))?;
+
+    let solvers: Vec<Solver> = pool.install(|| {
+        sections
+            .par_iter()
+            .enumerate()
+            .map(|(k, hull)| {
+                Solver::new(hull, &params.panels, params.extrapolation_levels)
+                    .map_err(section_error(k))
+            })
+            .collect::<Result<_, _>>()
+    })?;
+    let limits: Vec<RadiationSolution> = pool.install(|| {
+        solvers
+            .par_iter()
+            .enumerate()
+            .map(|(k, solver)| {
+                solver
+                    .solve(FreeSurface::Dirichlet, IrregularFrequencies::Keep)
+                    .map_err(|cause| SweepError::Limit {
+                        surface: FreeSurface::Dirichlet,
+                        cause,
+                    })
+                    .map_err(section_error(k))
+            })
+            .collect::<Result<_, _>>()
+    })?;
+    let restoring: Vec<hydrostatics::Hydrostatics> = sections
+        .iter()
+        .map(hydrostatics::stiffness)
+        .collect::<Result<_, _>>()
+        .map_err(ShipSweepError::Hydrostatics)?;
+
+    // Distinct transverse direction cosines of the headings.
+    let mut cosines: Vec<f64> = Vec::new();
+    let column: Vec<usize> = params
+        .headings
+        .iter()
+        .map(|h| {
+            let c = h.to_radians().sin();
+            match cosines.iter().position(|d| (d - c).abs() < 1e-12) {
+                Some(k) => k,
+                None => {
+                    cosines.push(c);
+                    cosines.len() - 1
+                }
+            }
+        })
+        .collect();
+
+    let tasks: Vec<(usize, usize)> = (0..sections.len())
+        .flat_map(|k| (0..params.omega.len()).map(move |w| (k, w)))
+        .collect();
+    let done = AtomicUsize::new(0);
+    let solutions: Vec<Result<RadiationSolution, String>> = pool.install(|| {
+        tasks
+            .par_iter()
+            .map(|&(k, w)| {
+                let omega = params.omega[w];
+                let surface = FreeSurface::Wave {
+                    wavenumber: crate::units::wavenumber(omega, params.g),
+                };
+                let solution = solvers[k]
+                    .solve_waves(surface, params.irregular_frequencies, &cosines)
+                    .map_err(|e| format!("the section at x = {} m: {e}", first_x(k)));
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, tasks.len());
+                solution
+            })
+            .collect()
+    });
+
+    let n = ship.dofs().len();
+    let shares = shares(ship, &elastic);
+    let (rho, g) = (params.rho, params.g);
+    let added_mass_inf = integrate_real(&shares, n, |k| limits[k].added_mass.map(|z| z.re)) * rho;
+    let mut stiffness = integrate_real(&shares, n, |k| restoring[k].stiffness_per_rho_g.clone());
+    if let Some(pitch) = ship
+        .dofs()
+        .iter()
+        .position(|d| d.name == "pitch" && d.motions.is_none())
+    {
+        // rho g V z_B: the integral of the sectional A z_B.
+        stiffness[(pitch, pitch)] += buoyancy_moment(&shares, &restoring);
+    }
+    let stiffness_hydrostatic = stiffness * (rho * g);
+
+    let mut result = ShipSweep {
+        ship_name: ship.name().to_string(),
+        dof_names: ship.dof_names().iter().map(|s| s.to_string()).collect(),
+        rho,
+        g,
+        omega: Vec::new(),
+        added_mass: Vec::new(),
+        added_mass_inf,
+        headings: params.headings.clone(),
+        excitation: Vec::new(),
+        froude_krylov: Vec::new(),
+        stiffness_hydrostatic,
+        failures: Vec::new(),
+        warnings: Vec::new(),
+        body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
+    };
+    let count = params.omega.len();
+    let mut coarse: Option<String> = None;
+    for (w, &omega) in params.omega.iter().enumerate() {
+        let at: Vec<&Result<RadiationSolution, String>> = (0..sections.len())
+            .map(|k| &solutions[k * count + w])
+            .collect();
+        if let Some(Err(why)) = at.iter().find(|s| s.is_err()) {
+            result.failures.push((omega, why.clone()));
+            continue;
+        }
+        let solved: Vec<&RadiationSolution> = at.iter().map(|s| s.as_ref().unwrap()).collect();
+        let Some(waves) = solved
+            .iter()
+            .map(|s| s.wave_forces.as_ref())
+            .collect::<Option<Vec<_>>>()
+        else {
+            result.failures.push((
+                omega,
+                "a section's solve gave no exciting force".to_string(),
+            ));
+            continue;
+        };
+        let added = integrate_complex(&shares, n, &|k| solved[k].added_mass.clone())
+            * Complex64::new(rho, 0.0);
+        let k = crate::units::wavenumber(omega, g);
+        let force = |froude_krylov_only: bool| {
+            DMatrix::from_fn(n, params.headings.len(), |r, h| {
+                let beta = params.headings[h].to_radians();
+                shares
+                    .iter()
+                    .map(|s| {
+                        let phase = Complex64::new(0.0, -k * s.x * beta.cos()).exp();
+                        let x = if froude_krylov_only {
+                            &waves[s.section].froude_krylov
+                        } else {
+                            &waves[s.section].haskind
+                        };
+                        (0..s.coordinates.nrows())
+                            .map(|j| x[(j, column[h])] * s.coordinates[(j, r)])
+                            .sum::<Complex64>()
+                            * phase
+                            * s.weight
+                    })
+                    .sum::<Complex64>()
+                    * (rho * g)
+            })
+        };
+        let excitation = force(false);
+        let froude_krylov = force(true);
+        let finite = |z: &Complex64| z.re.is_finite() && z.im.is_finite();
+        if !(added.iter().all(finite) && excitation.iter().all(finite)) {
+            result
+                .failures
+                .push((omega, "non-finite strip integral".to_string()));
+            continue;
+        }
+        if coarse.is_none() {
+            coarse = solvers.iter().find_map(|s| s.mesh().wavelength_warning(k));
+        }
+        result.omega.push(omega);
+        result.added_mass.push(added);
+        result.excitation.push(excitation);
+        result.froude_krylov.push(froude_krylov);
+    }
+    if result.omega.is_empty() {
+        return Err(ShipSweepError::NothingComputed {
+            failures: result.failures,
+        });
+    }
+    if let Some(w) = coarse {
+        result.warnings.push(w);
+    }
+    Ok(result)
+}
+
+/// `integral A(x) z_B(x) dx` over the stations (the rigid pitch's buoyancy moment arm, per
+/// `rho g`), with the same linear interpolation between stations.
+fn buoyancy_moment(shares: &[Share], restoring: &[hydrostatics::Hydrostatics]) -> f64 {
+    shares
+        .iter()
+        .map(|s| {
+            let h = &restoring[s.section];
+            s.weight * h.submerged_area * h.centre_of_buoyancy[1]
+        })
+        .sum()
+}
+
+fn readable(x: f64) -> String {
+    format_number(x, Notation::Plain)
+}
+
+impl ShipSweep {
+    fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        writeln!(out, "# hull: {}", self.ship_name)?;
+        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
+        writeln!(out, "# convention: exp(+i omega t)")?;
+        writeln!(out, "# units: SI")?;
+        writeln!(out, "# rho: {} kg/m^3", readable(self.rho))?;
+        writeln!(out, "# g: {} m/s^2", readable(self.g))
+    }
+
+    /// The added-mass table of DESIGN.md ("Ships"): `omega,i,j,re,im`, `omega = inf` rows
+    /// for `A_inf`, then one block per frequency.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.header(out)?;
+        writeln!(out, "omega,i,j,re,im")?;
+        let n = self.dof_names.len();
+        let number = |x: f64| format_number(x, Notation::Scientific);
+        for i in 0..n {
+            for j in 0..n {
+                writeln!(
+                    out,
+                    "inf,{},{},{},0",
+                    i + 1,
+                    j + 1,
+                    number(self.added_mass_inf[(i, j)])
+                )?;
+            }
+        }
+        for (omega, a) in self.omega.iter().zip(&self.added_mass) {
+            for i in 0..n {
+                for j in 0..n {
+                    let z = a[(i, j)];
+                    writeln!(
+                        out,
+                        "{},{},{},{},{}",
+                        number(*omega),
+                        i + 1,
+                        j + 1,
+                        number(z.re),
+                        number(z.im)
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The excitation table: `omega,j,heading,re,im`, `X_j` per unit wave amplitude in SI.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_excitation_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.header(out)?;
+        writeln!(out, "omega,j,heading,re,im")?;
+        let number = |x: f64| format_number(x, Notation::Scientific);
+        for (omega, x) in self.omega.iter().zip(&self.excitation) {
+            for j in 0..self.dof_names.len() {
+                for (h, heading) in self.headings.iter().enumerate() {
+                    let z = x[(j, h)];
+                    writeln!(
+                        out,
+                        "{},{},{},{},{}",
+                        number(*omega),
+                        j + 1,
+                        number(*heading),
+                        number(z.re),
+                        number(z.im)
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The hydrostatic restoring as CSV: `i,j,c`.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_hydrostatics_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.header(out)?;
+        writeln!(out, "i,j,c")?;
+        let n = self.dof_names.len();
+        for i in 0..n {
+            for j in 0..n {
+                writeln!(
+                    out,
+                    "{},{},{}",
+                    i + 1,
+                    j + 1,
+                    format_number(self.stiffness_hydrostatic[(i, j)], Notation::Scientific)
+                )?;
+            }
+        }
+        Ok(())
+    }
+}

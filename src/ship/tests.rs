@@ -1,0 +1,335 @@
+use super::strip::{run, ShipSweepParams};
+use super::*;
+use crate::bem::IrregularFrequencies;
+use crate::green::FreeSurface;
+use crate::sweep::Solver;
+use num_complex::Complex64;
+use std::f64::consts::PI;
+use std::path::Path;
+
+const RHO: f64 = 1025.0;
+const G: f64 = 9.81;
+
+fn prismatic(stations: &[f64], section: &str, modes: &str) -> Ship {
+    let mut text = String::from("<ship name=\"prism\">\n");
+    for x in stations {
+        text.push_str(&format!("<station x=\"{x}\">{section}</station>\n"));
+    }
+    text.push_str(modes);
+    text.push_str("</ship>\n");
+    Ship::from_xml_str(&text, "prism.xml", Path::new(".")).unwrap()
+}
+
+fn params(ship: &Ship, omega: &[f64], headings: &[f64]) -> ShipSweepParams {
+    ShipSweepParams {
+        omega: omega.to_vec(),
+        headings: headings.to_vec(),
+        panels: crate::PanelParams {
+            body_panels: 32,
+            ..crate::PanelParams::default()
+        },
+        extrapolation_levels: 2,
+        ..ShipSweepParams::for_ship(ship)
+    }
+}
+
+/// The 2D solve of the same section with the same discretization: `A~ / rho` and the
+/// exciting force per `rho g a` for a wave of transverse cosine 1.
+fn section_2d(
+    ship: &Ship,
+    omega: f64,
+) -> (
+    nalgebra::DMatrix<Complex64>,
+    nalgebra::DMatrix<Complex64>,
+    nalgebra::DMatrix<f64>,
+) {
+    let hull = ship.sections()[0].ship_section(&[]).unwrap();
+    let solver = Solver::new(
+        &hull,
+        &crate::PanelParams {
+            body_panels: 32,
+            ..crate::PanelParams::default()
+        },
+        2,
+    )
+    .unwrap();
+    let wave = solver
+        .solve_waves(
+            FreeSurface::Wave {
+                wavenumber: omega * omega / G,
+            },
+            IrregularFrequencies::RemoveWithLid,
+            &[1.0],
+        )
+        .unwrap();
+    let inf = solver
+        .solve(FreeSurface::Dirichlet, IrregularFrequencies::Keep)
+        .unwrap();
+    (
+        wave.added_mass,
+        wave.wave_forces.unwrap().haskind,
+        inf.added_mass.map(|z| z.re),
+    )
+}
+
+fn close(a: Complex64, b: Complex64, scale: f64, what: &str) {
+    assert!(
+        (a - b).norm() <= 1e-10 * scale,
+        "{what}: {a} vs {b} (scale {scale})"
+    );
+}
+
+/// A prismatic ship of one section is L times the 2D section in sway, heave, roll and their
+/// couplings; pitch and yaw are the heave and sway values times `integral x^2 dx = L^3/12`
+/// (stations symmetric about x = 0), and the couplings through `integral x dx` vanish.
+#[test]
+fn a_prismatic_ship_is_the_section_times_its_length_in_every_rigid_dof() {
+    let stations = [-5.0, -2.0, 0.0, 1.0, 5.0];
+    let ship = prismatic(&stations, "<semicircle radius=\"1\"/>", "");
+    assert_eq!(ship.dof_names(), ["sway", "heave", "roll", "pitch", "yaw"]);
+    let omega = [0.8, 2.5];
+    let result = run(&ship, &params(&ship, &omega, &[90.0]), &|_, _| {}).unwrap();
+    let length: f64 = 10.0;
+    let second_moment = length.powi(3) / 12.0;
+    for (w, &om) in omega.iter().enumerate() {
+        let (a2, x2, inf2) = section_2d(&ship, om);
+        let a = &result.added_mass[w];
+        let scale = RHO * a2[(1, 1)].norm() * second_moment;
+        let rho = Complex64::new(RHO, 0.0);
+        // sway heave roll block.
+        for i in 0..3 {
+            for j in 0..3 {
+                close(a[(i, j)], a2[(i, j)] * rho * length, scale, "strip block");
+            }
+        }
+        close(a[(3, 3)], a2[(1, 1)] * rho * second_moment, scale, "pitch");
+        close(a[(4, 4)], a2[(0, 0)] * rho * second_moment, scale, "yaw");
+        close(a[(4, 2)], Complex64::default(), scale, "yaw-roll");
+        close(a[(3, 1)], Complex64::default(), scale, "pitch-heave");
+        // Beam seas (heading 90 = the section's 2D heading 0): no phase along the ship.
+        let x = &result.excitation[w];
+        let force_scale = RHO * G * x2[(1, 0)].norm() * length;
+        for j in 0..3 {
+            close(
+                x[(j, 0)],
+                x2[(j, 0)] * RHO * G * length,
+                force_scale,
+                "beam-sea force",
+            );
+        }
+        close(
+            x[(3, 0)],
+            Complex64::default(),
+            force_scale,
+            "beam-sea pitch moment",
+        );
+        let inf = &result.added_mass_inf;
+        assert!((inf[(3, 3)] - inf2[(1, 1)] * RHO * second_moment).abs() < 1e-10 * scale);
+    }
+    // Hydrostatics of the semicircle, R = 1: B = 2, A = pi/2, z_B = -4/(3 pi).
+    let c = &result.stiffness_hydrostatic;
+    let rho_g = RHO * G;
+    let area = PI / 2.0;
+    let z_b = -4.0 / (3.0 * PI);
+    let expected_heave = rho_g * 2.0 * length;
+    assert!(
+        (c[(1, 1)] - expected_heave).abs() < 1e-3 * expected_heave,
+        "{}",
+        c[(1, 1)]
+    );
+    let expected_pitch = rho_g * (2.0 * second_moment + area * length * z_b);
+    assert!(
+        (c[(3, 3)] - expected_pitch).abs() < 1e-3 * expected_pitch,
+        "{}",
+        c[(3, 3)]
+    );
+    // Roll about the waterline centre: I_wp + A z_B = 2/3 - 2/3 = 0 (neutral).
+    let expected_roll = rho_g * (2.0 / 3.0 + area * z_b) * length;
+    assert!(
+        (c[(2, 2)] - expected_roll).abs() < 1e-9 * expected_heave,
+        "{}",
+        c[(2, 2)]
+    );
+    assert!(c[(1, 3)].abs() < 1e-9 * expected_heave, "{}", c[(1, 3)]);
+}
+
+/// A girder mode that equals a rigid shape gives that rigid DOF's entries: `w = -x` is pitch,
+/// `v = x` is yaw. (The restoring differs by the rigid pitch's `rho g V z_B`, which an elastic
+/// mode leaves to the structural model.)
+#[test]
+fn a_girder_mode_equal_to_a_rigid_shape_gives_the_rigid_entries() {
+    let stations = [-6.0, -3.0, 0.0, 2.0, 4.0];
+    let mut modes = String::from("<mode name=\"vb\">");
+    for x in stations {
+        modes.push_str(&format!("<at w=\"{}\"/>", -x));
+    }
+    modes.push_str("</mode><mode name=\"hb\">");
+    for x in stations {
+        modes.push_str(&format!("<at x=\"{x}\" v=\"{x}\"/>"));
+    }
+    modes.push_str("</mode>");
+    let ship = prismatic(
+        &stations,
+        "<lewis breadth=\"3\" draft=\"1\" area_coefficient=\"0.9\"/>",
+        &modes,
+    );
+    let result = run(
+        &ship,
+        &params(&ship, &[1.5], &[0.0, 30.0, 150.0]),
+        &|_, _| {},
+    )
+    .unwrap();
+    let (pitch, yaw, vb, hb) = (3, 4, 5, 6);
+    let a = &result.added_mass[0];
+    let scale = a[(pitch, pitch)].norm();
+    for (rigid, mode) in [(pitch, vb), (yaw, hb)] {
+        for k in 0..7 {
+            close(a[(mode, k)], a[(rigid, k)], scale, "added mass row");
+        }
+        for h in 0..3 {
+            let x = &result.excitation[0];
+            close(
+                x[(mode, h)],
+                x[(rigid, h)],
+                x[(pitch, 0)].norm(),
+                "excitation",
+            );
+        }
+    }
+    let c = &result.stiffness_hydrostatic;
+    let v_zb = {
+        let form = Hull::lewis(3.0, 1.0, 0.9).unwrap();
+        let h = crate::hydrostatics::stiffness(&form).unwrap();
+        h.submerged_area * h.centre_of_buoyancy[1] * 10.0 * RHO * G
+    };
+    assert!((c[(pitch, pitch)] - c[(vb, vb)] - v_zb).abs() < 1e-9 * c[(pitch, pitch)].abs());
+    assert!((c[(vb, 1)] - c[(pitch, 1)]).abs() < 1e-9 * c[(pitch, pitch)].abs());
+}
+
+/// The Lewis form with B/(2T) = 1 and sigma = pi/4 is the semicircle: the same ship either way.
+#[test]
+fn the_lewis_semicircle_gives_the_semicircle_ship() {
+    let stations = [-2.0, 2.0];
+    let semicircle = prismatic(&stations, "<semicircle radius=\"1\"/>", "");
+    let lewis = prismatic(
+        &stations,
+        &format!(
+            "<lewis breadth=\"2\" draft=\"1\" area_coefficient=\"{}\"/>",
+            PI / 4.0
+        ),
+        "",
+    );
+    let p = params(&semicircle, &[1.0, 3.0], &[180.0]);
+    let a = run(&semicircle, &p, &|_, _| {}).unwrap();
+    let b = run(&lewis, &p, &|_, _| {}).unwrap();
+    for w in 0..2 {
+        let scale = a.added_mass[w][(1, 1)].norm();
+        for (x, y) in a.added_mass[w].iter().zip(b.added_mass[w].iter()) {
+            close(*x, *y, 1e2 * scale, "Lewis semicircle");
+        }
+    }
+}
+
+fn refused(text: &str, words: &[&str]) {
+    let e = Ship::from_xml_str(text, "bad.xml", Path::new("."))
+        .unwrap_err()
+        .to_string();
+    for word in words {
+        assert!(e.contains(word), "'{word}' not in: {e}");
+    }
+    assert!(e.starts_with("bad.xml:"), "{e}");
+}
+
+#[test]
+fn bad_ship_files_name_the_station_and_the_field() {
+    let semi = "<semicircle radius=\"1\"/>";
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"-1\">{semi}</station></ship>"),
+        &["station 2", "x = -1", "increasing x"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"0\">{semi}</station></ship>"),
+        &["station 2", "each once"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"1\">{semi}</station><mode name=\"m\"><at w=\"1\"/></mode></ship>"),
+        &["bad.xml:1:", "mode 'm' has 1", "2 stations"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"1\">{semi}</station><mode name=\"m\"><at w=\"1\"/><at w=\"NaN\"/></mode></ship>"),
+        &["mode 'm', station 2", "w"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"1\">{semi}</station><mode name=\"m\"><at w=\"1\"/><at cb9=\"1\"/></mode></ship>"),
+        &["station 2", "no elastic DOF 'cb9'"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"1\"><lewis breadth=\"10\" draft=\"1\" area_coefficient=\"0.2\"/></station></ship>"),
+        &["station 2 at x = 1 m", "Lewis form"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"inf\">{semi}</station></ship>"),
+        &["x=\"inf\"", "not a finite number"],
+    );
+    refused(
+        "<ship name=\"s\"><station x=\"0\"/><station x=\"1\"/></ship>",
+        &["no station has a section"],
+    );
+    refused(
+        &format!("<ship name=\"s\"><station x=\"0\">{semi}</station><station x=\"1\">{semi}</station><rigid dofs=\"surge heave\"/></ship>"),
+        &["'surge'", "left out"],
+    );
+}
+
+#[test]
+fn a_fully_submerged_section_is_refused() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-ship-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("deep.xml"),
+        "<hull name=\"deep\" half_beam=\"1\"><circle radius=\"1\" depth=\"3\"/><rigid name=\"heave\" kind=\"heave\"/></hull>",
+    )
+    .unwrap();
+    let e = Ship::from_xml_str(
+        "<ship name=\"s\"><station x=\"0\"><hull file=\"deep.xml\"/></station><station x=\"1\"><semicircle radius=\"1\"/></station></ship>",
+        "bad.xml",
+        &dir,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("station 1") && e.contains("fully submerged"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The restoring of a Lewis section: breadth B in heave, area sigma B T (the quadrature runs
+/// over the smooth form, not one straight segment).
+#[test]
+fn a_lewis_section_has_its_breadth_and_area() {
+    let form = Hull::lewis(3.0, 1.0, 0.9).unwrap();
+    let h = crate::hydrostatics::stiffness(&form).unwrap();
+    assert!((h.waterline_breadth - 3.0).abs() < 1e-12);
+    assert!(
+        (h.submerged_area - 2.7).abs() < 1e-6,
+        "{}",
+        h.submerged_area
+    );
+    assert!((h.stiffness_per_rho_g[(1, 1)] - 3.0).abs() < 1e-12);
+    assert!(h.centre_of_buoyancy[1] < 0.0 && h.centre_of_buoyancy[1] > -0.5);
+}
+
+#[test]
+fn a_lewis_hull_file_round_trips_and_takes_rigid_dofs_only() {
+    let text = "<hull name=\"l\" half_beam=\"1.5\"><lewis breadth=\"3\" draft=\"1\" area_coefficient=\"0.9\"/><rigid name=\"heave\" kind=\"heave\"/></hull>";
+    let hull = Hull::from_xml_str(text, "l.xml").unwrap();
+    let again = Hull::from_xml_str(&hull.to_xml_string(), "again.xml").unwrap();
+    assert_eq!(hull.fingerprint(), again.fingerprint());
+    assert_eq!(hull.point(0.5), again.point(0.5));
+    let with_mode = "<hull name=\"l\" half_beam=\"1.5\"><lewis breadth=\"3\" draft=\"1\" area_coefficient=\"0.9\"/><mode name=\"m\"><u x=\"0\" y=\"1\"/></mode></hull>";
+    let e = Hull::from_xml_str(with_mode, "m.xml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rigid DOFs only"), "{e}");
+}
