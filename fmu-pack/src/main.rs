@@ -19,6 +19,7 @@ mod pack;
 mod pipeline;
 mod progress;
 mod scene;
+mod ship_cmd;
 mod sweep_cmd;
 
 use clap::{Parser, Subcommand};

@@ -17,7 +17,8 @@ use std::time::Instant;
 /// The hull and the sweep settings, shared by `fmu-pack sweep` and `fmu-pack fit`.
 #[derive(Args, Debug, Clone)]
 pub struct HullSweepArgs {
-    /// `semicircle`, `circle` or a hull file (XML, see docs/HULL_FORMAT.md).
+    /// `semicircle`, `circle`, a hull file (XML, see docs/HULL_FORMAT.md) or, for `sweep`, a
+    /// ship file (docs/SHIPS.md).
     pub hull: String,
     /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
     #[arg(long = "depth", value_name = "H_OVER_R")]
@@ -97,9 +98,17 @@ pub struct SweepArgs {
     #[arg(long = "froude-krylov", value_name = "FILE.csv")]
     pub froude_krylov: Option<PathBuf>,
     /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
-    /// `i,j,value` in SI per unit length.
+    /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]
     pub hydrostatics: Option<PathBuf>,
+    /// Ship files only: log-spaced grid of wave frequencies omega in rad/s (default: 100
+    /// points from kR = 0.01 to 5, R the largest section half-beam).
+    #[arg(long, value_name = "MIN:MAX:COUNT", allow_hyphen_values = true)]
+    pub omega: Option<String>,
+    /// Ship files only: wave headings in degrees, comma-separated (0 following seas, 90 from
+    /// starboard towards port, 180 head seas). Default 0,45,90,135,180.
+    #[arg(long, value_name = "DEG,DEG,..", allow_hyphen_values = true)]
+    pub headings: Option<String>,
 }
 
 /// The hydrostatic restoring table: header comments, then `i,j,value` with
@@ -158,6 +167,16 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
+    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
+        return crate::ship_cmd::run(args);
+    }
+    if args.omega.is_some() || args.headings.is_some() {
+        return Err(
+            "--omega and --headings apply to ship files (docs/SHIPS.md); a section's \
+                    grid is --kr"
+                .to_string(),
+        );
+    }
     let (hull, mut params) = args.sweep.resolve()?;
     // The diffraction problems only when a table asks for them.
     params.excitation = args.excitation.is_some() || args.froude_krylov.is_some();

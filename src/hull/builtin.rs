@@ -68,7 +68,7 @@ impl Hull {
     /// `B/(2T) = 1` with `pi/4` is the semicircle.
     ///
     /// # Errors
-    /// Data out of range or a form that does not exist ([`lewis`](super::lewis)).
+    /// Data out of range, or a form that loops or rises above the waterline (docs/SHIPS.md).
     pub fn lewis(breadth: f64, draft: f64, area_coefficient: f64) -> Result<Hull, HullError> {
         let source = "built-in Lewis form";
         let error = |m: String| HullError::new(source, None, m);

@@ -1,0 +1,107 @@
+//! `fmu-pack sweep SHIP.xml`: the whole-ship tables of DESIGN.md ("Ships") and clear errors.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn fmu_pack(args: &[&str]) -> (bool, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_fmu-pack"))
+        .args(args)
+        .output()
+        .expect("run fmu-pack");
+    (
+        output.status.success(),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+fn example(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/ships")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// The barge's table in SI: the header of DESIGN.md, `A_inf` rows first, every entry of
+/// every frequency, and the heave restoring `rho g L B` of the 100 m x 10 m waterplane.
+#[test]
+fn sweep_of_a_ship_file_writes_the_whole_ship_tables() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-ship-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let restoring = dir.join("c.csv");
+    let excitation = dir.join("x.csv");
+    let (ok, csv, err) = fmu_pack(&[
+        "sweep",
+        &example("barge.xml"),
+        "--omega",
+        "0.3:1.5:4",
+        "--headings",
+        "180,90",
+        "--panels",
+        "32",
+        "--levels",
+        "2",
+        "--hydrostatics",
+        restoring.to_str().unwrap(),
+        "--excitation",
+        excitation.to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert!(ok, "{err}");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("# hull: barge"));
+    assert_eq!(lines.next(), Some("# modes: sway heave roll pitch yaw vb1"));
+    assert_eq!(lines.next(), Some("# convention: exp(+i omega t)"));
+    assert_eq!(lines.next(), Some("# units: SI"));
+    let rows: Vec<&str> = csv
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("omega"))
+        .collect();
+    assert_eq!(
+        rows.len(),
+        36 * 5,
+        "A_inf and 4 frequencies of 6 x 6 entries"
+    );
+    assert!(rows[0].starts_with("inf,1,1,"));
+    let heave: f64 = std::fs::read_to_string(&restoring)
+        .unwrap()
+        .lines()
+        .find(|l| l.starts_with("2,2,"))
+        .and_then(|l| l.rsplit(',').next()?.parse().ok())
+        .unwrap();
+    let expected = 1025.0 * 9.81 * 100.0 * 10.0;
+    assert!((heave - expected).abs() < 1e-9 * expected, "{heave}");
+    let forces = std::fs::read_to_string(&excitation).unwrap();
+    assert!(forces.contains("omega,j,heading,re,im"));
+    assert_eq!(
+        forces
+            .lines()
+            .filter(|l| !l.starts_with(['#', 'o']))
+            .count(),
+        4 * 6 * 2
+    );
+    assert!(err.contains("11 stations, 1 distinct sections"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ship_errors_name_the_file_and_the_option() {
+    let (ok, _, err) = fmu_pack(&["sweep", &example("barge.xml"), "--dofs", "heave", "-o", "-"]);
+    assert!(!ok && err.contains("--dofs applies to a section"), "{err}");
+    let (ok, _, err) = fmu_pack(&["sweep", "semicircle", "--omega", "1:2:3", "-o", "-"]);
+    assert!(
+        !ok && err.contains("--omega and --headings apply to ship files"),
+        "{err}"
+    );
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        &example("barge.xml"),
+        "--headings",
+        "0,x",
+        "-o",
+        "-",
+    ]);
+    assert!(!ok && err.contains("--headings: 'x'"), "{err}");
+}
