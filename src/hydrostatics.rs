@@ -280,5 +280,8 @@ fn pressure_stiffness(hull: &Hull, i: usize, j: usize) -> f64 {
     total
 }
 
+mod table;
+pub use table::Table;
+
 #[cfg(test)]
 mod tests;

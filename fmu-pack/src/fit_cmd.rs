@@ -76,6 +76,29 @@ pub fn scene(
 
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
+    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
+        let unsupported = [
+            ("--form", args.form.is_some()),
+            ("--plots", args.plots.is_some()),
+            ("--json", args.json),
+        ];
+        if let Some((flag, _)) = unsupported.iter().find(|(_, given)| *given) {
+            return Err(format!("{flag} is not yet available for ship files"));
+        }
+        let fitted = crate::ship_cmd::fit(
+            &args.sweep,
+            Some(&args.band),
+            args.tolerance,
+            args.order,
+            args.max_step,
+        )?;
+        if let Some(path) = &args.network_out {
+            crate::output::file(path, fitted.fit.network.to_xml_string().as_bytes())?;
+        }
+        return crate::output::stdout(
+            format!("{}\n", crate::ship_cmd::fit_text(&fitted)).as_bytes(),
+        );
+    }
     let (hull, sweep_params) = args.sweep.resolve()?;
     let scene = scene(
         hull,

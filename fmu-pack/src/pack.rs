@@ -19,7 +19,7 @@ use crate::pipeline::{self, Built, HullInfo};
 use crate::scene::SceneText;
 use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::fmu::description::FIXED_XML;
-use hydrofmu::fmu::{DescriptionInfo, Layout, Resources};
+use hydrofmu::fmu::{DescriptionInfo, Extent, Layout, Resources};
 use hydrofmu::model::{Model, ModelOptions};
 use hydrofmu::network::Network;
 use hydrofmu::scene::{Band, Scene, SceneReport};
@@ -163,6 +163,9 @@ impl fmt::Display for PackSummary {
 
 /// `fmu-pack pack`.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
+    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
+        return crate::ship_cmd::pack(args);
+    }
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let hull = HullInfo::new(&resolved);
     let mut report = None;
@@ -318,10 +321,11 @@ pub fn pack_network(
                 .map_err(|e| format!("cannot format the excitation table: {e}"))?;
             Some(String::from_utf8_lossy(&text).into_owned())
         }
-        None => None,
+        None => hull.excitation_csv.clone(),
     };
     let resources = Resources::with_options(network.xml.clone(), hull.xml.clone(), keep_inf_mass)
-        .with_excitation(excitation);
+        .with_excitation(excitation)
+        .with_hydrostatics(hull.hydrostatics_csv.clone());
     // The GUID is that of the packed texts.
     let options = ModelOptions {
         keep_inf_mass,
@@ -343,7 +347,8 @@ pub fn pack_network(
         })?;
         units.push(unit.clone());
     }
-    let layout = Layout::new(units, keep_inf_mass).map_err(|e| e.to_string())?;
+    let layout =
+        Layout::with_extent(units, keep_inf_mass, hull.extent).map_err(|e| e.to_string())?;
     let guid = resources.guid();
     let system = model.system();
     let info = DescriptionInfo {
@@ -365,8 +370,15 @@ pub fn pack_network(
     let library = std::fs::read(binary)
         .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
     let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
+    if let Some(report) = &hull.report {
+        let section = format!("<h2>Fit report</h2>\n<pre>{}</pre>\n", escape(report));
+        documentation = match documentation.rfind("</body>") {
+            Some(at) => format!("{}{section}{}", &documentation[..at], &documentation[at..]),
+            None => documentation + &section,
+        };
+    }
     let mut plot_entries = Vec::new();
-    let mut scene_entry = None;
+    let mut scene_entry = hull.report.clone();
     if let Some(Fitted { built, scene }) = fit {
         let scene_text = SceneText(scene).to_string();
         let mut section = format!(
@@ -408,6 +420,12 @@ pub fn pack_network(
         entries.push((
             format!("resources/{}", Resources::EXCITATION_FILE),
             x.clone().into_bytes(),
+        ));
+    }
+    if let Some(c) = &resources.hydrostatics_csv {
+        entries.push((
+            format!("resources/{}", Resources::HYDROSTATICS_FILE),
+            c.clone().into_bytes(),
         ));
     }
     entries.push((
@@ -554,9 +572,9 @@ fn documentation(
 <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}td:first-child{{text-align:left}}</style>
 </head><body>
 <h1>hydrofmu: hull {name}</h1>
-<p>FMI 2.0 co-simulation unit giving the hydrodynamic radiation force on the hull section (per unit length),
+<p>FMI 2.0 co-simulation unit giving the hydrodynamic radiation force on the {body} ({extent}),
 from an equivalent mass-spring-damper network stepped exactly over each communication step.
-Conventions: x right, y up, free surface y = 0; force = force on the hull by the water.</p>
+Conventions: {axes}; force = force on the hull by the water.</p>
 <ul>
 <li>GUID: <code>{guid}</code></li>
 <li>DOFs: {dofs}</li>
@@ -573,6 +591,15 @@ Conventions: x right, y up, free surface y = 0; force = force on the hull by the
 </body></html>
 "#,
         name = escape(&hull.name),
+        body = match hull.extent {
+            Extent::PerUnitLength => "hull section",
+            Extent::WholeBody => "whole ship (strip theory, docs/SHIPS.md)",
+        },
+        extent = hull.extent.words(),
+        axes = match hull.extent {
+            Extent::PerUnitLength => "x right, y up, free surface y = 0",
+            Extent::WholeBody => "x forward, y to port, z up, origin on the free surface",
+        },
         guid = escape(guid),
         dofs = escape(&model.dof_names().join(", ")),
         states = system.state_size(),
@@ -774,10 +801,15 @@ fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
         &mut archive,
         &format!("resources/{}", Resources::EXCITATION_FILE),
     )?;
+    let hydrostatics = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::HYDROSTATICS_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options)
         .map_err(|e| e.to_string())?
-        .with_excitation(excitation);
+        .with_excitation(excitation)
+        .with_hydrostatics(hydrostatics);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
@@ -855,6 +887,10 @@ mod tests {
                     .unwrap()
                     .to_xml_string(),
             ),
+            extent: Extent::PerUnitLength,
+            hydrostatics_csv: None,
+            excitation_csv: None,
+            report: None,
         }
     }
 

@@ -7,7 +7,7 @@
 //! rescales it exactly to the `rho` and `g` a master sets (see [`hydrofmu::scene`]).
 
 use crate::progress::Progress;
-use hydrofmu::fmu::DofUnit;
+use hydrofmu::fmu::{DofUnit, Extent};
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::FitReport;
 use hydrofmu::panels::{PanelError, MAX_BODY_PANELS};
@@ -144,6 +144,15 @@ pub struct HullInfo {
     pub dofs: Vec<DofUnit>,
     /// Canonical hull file text, packed as `resources/hull.xml`.
     pub xml: Option<String>,
+    /// Forces per unit length (a section) or of the whole body (a ship).
+    pub extent: Extent,
+    /// The restoring table, packed as `resources/hydrostatics.csv` (a body without a hull
+    /// file: a ship).
+    pub hydrostatics_csv: Option<String>,
+    /// The exciting force table, when no section sweep provides one (a ship).
+    pub excitation_csv: Option<String>,
+    /// A fit report for the documentation, when no section scene provides one (a ship).
+    pub report: Option<String>,
 }
 
 impl HullInfo {
@@ -157,6 +166,10 @@ impl HullInfo {
             name,
             dofs: hull.dof_units(),
             xml: Some(hull.to_xml_string()),
+            extent: Extent::PerUnitLength,
+            hydrostatics_csv: None,
+            excitation_csv: None,
+            report: None,
         }
     }
 }

@@ -51,6 +51,14 @@ pub struct HullSweepArgs {
     /// Worker threads (at most 1024).
     #[arg(long, default_value_t = default_threads())]
     pub threads: usize,
+    /// Ship files only: log-spaced grid of wave frequencies omega in rad/s (default: 100
+    /// points from kR = 0.01 to 5, R the largest section half-beam).
+    #[arg(long, value_name = "MIN:MAX:COUNT", allow_hyphen_values = true)]
+    pub omega: Option<String>,
+    /// Ship files only: wave headings in degrees, comma-separated (0 following seas, 90 from
+    /// starboard towards port, 180 head seas). Default 0,45,90,135,180.
+    #[arg(long, value_name = "DEG,DEG,..", allow_hyphen_values = true)]
+    pub headings: Option<String>,
 }
 
 /// One worker thread per core, within [`sweep::MAX_THREADS`].
@@ -63,6 +71,13 @@ fn default_threads() -> usize {
 impl HullSweepArgs {
     /// The hull and the sweep parameters.
     pub fn resolve(&self) -> Result<(Hull, SweepParams), String> {
+        if self.omega.is_some() || self.headings.is_some() {
+            return Err(
+                "--omega and --headings apply to ship files (docs/SHIPS.md); a \
+                        section's grid is --kr"
+                    .to_string(),
+            );
+        }
         let hull = hull_arg::resolve(&self.hull, self.radius, self.depth, self.dofs.as_deref())?;
         let params = SweepParams {
             kr: parse_grid(&self.kr)?,
@@ -101,14 +116,6 @@ pub struct SweepArgs {
     /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]
     pub hydrostatics: Option<PathBuf>,
-    /// Ship files only: log-spaced grid of wave frequencies omega in rad/s (default: 100
-    /// points from kR = 0.01 to 5, R the largest section half-beam).
-    #[arg(long, value_name = "MIN:MAX:COUNT", allow_hyphen_values = true)]
-    pub omega: Option<String>,
-    /// Ship files only: wave headings in degrees, comma-separated (0 following seas, 90 from
-    /// starboard towards port, 180 head seas). Default 0,45,90,135,180.
-    #[arg(long, value_name = "DEG,DEG,..", allow_hyphen_values = true)]
-    pub headings: Option<String>,
 }
 
 /// The hydrostatic restoring table: header comments, then `i,j,value` with
@@ -169,13 +176,6 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 pub fn run(args: &SweepArgs) -> Result<(), String> {
     if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
         return crate::ship_cmd::run(args);
-    }
-    if args.omega.is_some() || args.headings.is_some() {
-        return Err(
-            "--omega and --headings apply to ship files (docs/SHIPS.md); a section's \
-                    grid is --kr"
-                .to_string(),
-        );
     }
     let (hull, mut params) = args.sweep.resolve()?;
     // The diffraction problems only when a table asks for them.

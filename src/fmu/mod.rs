@@ -16,5 +16,5 @@ pub mod variables;
 pub use description::DescriptionInfo;
 pub use guid::content_guid;
 pub use resources::{Resources, ResourcesError};
-pub use units::DofUnit;
+pub use units::{DofUnit, Extent};
 pub use variables::{Causality, Layout, Quantity, Variable, VariablesError};

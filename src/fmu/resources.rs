@@ -5,6 +5,7 @@
 //! resources/options.xml   <hydrofmu_options format="1" keep_inf_mass="true|false"/>
 //! resources/hull.xml      the hull, when known (the FMU computes its hydrostatics from it)
 //! resources/excitation.csv  the exciting force table (docs/WAVES.md), when packed with one
+//! resources/hydrostatics.csv  the restoring C / (rho g) of a body without a hull file (a ship)
 //! ```
 //!
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
@@ -62,6 +63,8 @@ pub struct Resources {
     pub keep_inf_mass: bool,
     /// Text of `excitation.csv`, when the FMU models waves.
     pub excitation_csv: Option<String>,
+    /// Text of `hydrostatics.csv`, the restoring of a body packed without a hull file.
+    pub hydrostatics_csv: Option<String>,
 }
 
 impl Resources {
@@ -73,6 +76,16 @@ impl Resources {
     pub const OPTIONS_FILE: &'static str = "options.xml";
     /// The exciting force table (optional).
     pub const EXCITATION_FILE: &'static str = "excitation.csv";
+    /// The restoring table (optional; `crate::hydrostatics::Table`).
+    pub const HYDROSTATICS_FILE: &'static str = "hydrostatics.csv";
+
+    /// The same resources with the restoring table `text`, or without one.
+    pub fn with_hydrostatics(self, text: Option<String>) -> Resources {
+        Resources {
+            hydrostatics_csv: text,
+            ..self
+        }
+    }
 
     /// The same resources with the exciting force table `text` (DESIGN.md's excitation
     /// table), or without one.
@@ -103,6 +116,7 @@ impl Resources {
             options_xml,
             keep_inf_mass,
             excitation_csv: None,
+            hydrostatics_csv: None,
         })
     }
 
@@ -129,7 +143,10 @@ impl Resources {
         };
         let hull = optional(Self::HULL_FILE)?;
         let excitation = optional(Self::EXCITATION_FILE)?;
-        Ok(Resources::new(network, hull, options)?.with_excitation(excitation))
+        let hydrostatics = optional(Self::HYDROSTATICS_FILE)?;
+        Ok(Resources::new(network, hull, options)?
+            .with_excitation(excitation)
+            .with_hydrostatics(hydrostatics))
     }
 
     /// Resources from the network text and the flags (the options text is written, not
@@ -145,6 +162,7 @@ impl Resources {
             options_xml: Self::options_text(keep_inf_mass),
             keep_inf_mass,
             excitation_csv: None,
+            hydrostatics_csv: None,
         }
     }
 
@@ -167,6 +185,9 @@ impl Resources {
         // Absent: the GUID of an FMU without waves stays what it was.
         if let Some(x) = &self.excitation_csv {
             parts.push((Self::EXCITATION_FILE, x.as_bytes()));
+        }
+        if let Some(c) = &self.hydrostatics_csv {
+            parts.push((Self::HYDROSTATICS_FILE, c.as_bytes()));
         }
         content_guid(&parts)
     }

@@ -12,6 +12,65 @@
 //! `added_mass_inf[i,j]` is in kg/m, kg, kg.m and `damping_direct[i,j]` in N.s/m2, N.s/m,
 //! N.s for e_i + e_j = 0, 1, 2. Every unit is declared in `modelDescription/fixed.xml`
 //! ([`crate::fmu::description::UNITS`]).
+//!
+//! A whole body (a ship, [`Extent::WholeBody`]) has forces, masses, damping, stiffness,
+//! power and energy with one more metre than a section's per unit length: N and N.m, kg,
+//! kg.m and kg.m2, W, J.
+
+/// Whether the FMU's forces are per unit length (a 2D section) or of a whole body (a ship).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Extent {
+    /// Per unit length of hull: force N/m (N for an angle or mode), power W/m.
+    #[default]
+    PerUnitLength,
+    /// Of the whole body: force N (N.m), power W.
+    WholeBody,
+}
+
+impl Extent {
+    /// The extra power of the metre this extent adds to a per-length quantity.
+    fn shift(self) -> usize {
+        match self {
+            Extent::PerUnitLength => 0,
+            Extent::WholeBody => 1,
+        }
+    }
+
+    /// Unit of a generalized force of a DOF with length exponent `e`.
+    pub fn force_unit(self, e: u8) -> &'static str {
+        ["N/m", "N", "N.m"][usize::from(e.min(1)) + self.shift()]
+    }
+
+    /// Unit of `added_mass_inf[i,j]` for `e_i + e_j`.
+    pub fn added_mass_unit(self, sum: u8) -> &'static str {
+        ["kg/m", "kg", "kg.m", "kg.m2"][usize::from(sum.min(2)) + self.shift()]
+    }
+
+    /// Unit of `damping_direct[i,j]` for `e_i + e_j`.
+    pub fn damping_unit(self, sum: u8) -> &'static str {
+        ["N.s/m2", "N.s/m", "N.s", "N.s.m"][usize::from(sum.min(2)) + self.shift()]
+    }
+
+    /// Unit of `stiffness_hydrostatic[i,j]` for `e_i + e_j`.
+    pub fn stiffness_unit(self, sum: u8) -> &'static str {
+        ["N/m2", "N/m", "N", "N.m"][usize::from(sum.min(2)) + self.shift()]
+    }
+
+    /// Unit of power.
+    pub fn power_unit(self) -> &'static str {
+        ["W/m", "W"][self.shift()]
+    }
+
+    /// Unit of energy.
+    pub fn energy_unit(self) -> &'static str {
+        ["J/m", "J"][self.shift()]
+    }
+
+    /// "per unit length" or "of the whole body", for descriptions.
+    pub fn words(self) -> &'static str {
+        ["per unit length", "of the whole body"][self.shift()]
+    }
+}
 
 /// Unit information of one DOF, filled from the hull by `fmu-pack`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -62,23 +121,4 @@ impl DofUnit {
             _ => "1/s2",
         }
     }
-
-    /// Unit of the generalized force per unit length.
-    pub fn force_unit(&self) -> &'static str {
-        if self.length_exponent == 0 {
-            "N/m"
-        } else {
-            "N"
-        }
-    }
-}
-
-/// Unit of `added_mass_inf[i,j]` for e_i + e_j.
-pub(super) fn added_mass_unit(exponent_sum: u8) -> &'static str {
-    ["kg/m", "kg", "kg.m"][exponent_sum.min(2) as usize]
-}
-
-/// Unit of `damping_direct[i,j]` for e_i + e_j.
-pub(super) fn damping_unit(exponent_sum: u8) -> &'static str {
-    ["N.s/m2", "N.s/m", "N.s"][exponent_sum.min(2) as usize]
 }

@@ -36,7 +36,7 @@ use crate::fmu::description::{
     FIRST_PER_HULL_REFERENCE, PARAMETERS, VR_G, VR_RHO, VR_WAVE_COMPONENTS, VR_WAVE_GAMMA,
     VR_WAVE_HEADING, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_PERIOD, VR_WAVE_RAMP, VR_WAVE_SEED,
 };
-use crate::fmu::units::{added_mass_unit, damping_unit, DofUnit};
+use crate::fmu::units::{DofUnit, Extent};
 use std::fmt;
 
 /// Why a layout or a model description could not be made.
@@ -249,6 +249,7 @@ impl Variable {
 pub struct Layout {
     pub(super) dofs: Vec<DofUnit>,
     pub(super) keep_inf_mass: bool,
+    pub(super) extent: Extent,
     pub(super) variables: Vec<Variable>,
 }
 
@@ -256,15 +257,6 @@ pub struct Layout {
 /// the acceleration slot, whether or not the accelerations exist.
 fn waves_base(n: usize) -> usize {
     3 * n + 2 + 2 * n * n
-}
-
-/// Unit of a hydrostatic stiffness entry per unit length, `e_i + e_j = 0, 1, 2`.
-fn stiffness_unit(length_exponents: u8) -> &'static str {
-    match length_exponents {
-        0 => "N/m2",
-        1 => "N/m",
-        _ => "N",
-    }
 }
 
 /// The fixed parameter of a value reference below [`FIRST_PER_HULL_REFERENCE`].
@@ -289,8 +281,19 @@ pub(super) fn valid_name(name: &str) -> bool {
 }
 
 impl Layout {
-    /// The layout for these DOFs; `keep_inf_mass` adds the acceleration inputs.
+    /// The layout for these DOFs of a section (forces per unit length); `keep_inf_mass`
+    /// adds the acceleration inputs.
     pub fn new(dofs: Vec<DofUnit>, keep_inf_mass: bool) -> Result<Layout, VariablesError> {
+        Layout::with_extent(dofs, keep_inf_mass, Extent::PerUnitLength)
+    }
+
+    /// As [`Layout::new`], for forces per unit length or of a whole body (a ship): the value
+    /// references are the same, only units and descriptions differ.
+    pub fn with_extent(
+        dofs: Vec<DofUnit>,
+        keep_inf_mass: bool,
+        extent: Extent,
+    ) -> Result<Layout, VariablesError> {
         if dofs.is_empty() {
             return Err(VariablesError::NoDofs);
         }
@@ -315,6 +318,7 @@ impl Layout {
         let mut layout = Layout {
             dofs,
             keep_inf_mass,
+            extent,
             variables: Vec::new(),
         };
         let mut vars = Vec::new();
@@ -356,10 +360,12 @@ impl Layout {
                 value_reference: 0,
                 quantity: Quantity::Force(i),
                 causality: Causality::Output,
-                unit: d.force_unit(),
+                unit: extent.force_unit(d.length_exponent),
                 description: format!(
-                    "Generalized force on the hull by the water in DOF {}, per unit length, {}",
-                    d.name, force_note
+                    "Generalized force on the hull by the water in DOF {}, {}, {}",
+                    d.name,
+                    extent.words(),
+                    force_note
                 ),
                 start: None,
                 integer: false,
@@ -370,7 +376,7 @@ impl Layout {
             value_reference: 0,
             quantity: Quantity::Power,
             causality: Causality::Output,
-            unit: "W/m",
+            unit: extent.power_unit(),
             description: "Power the hull delivers to the water, -force . velocity".into(),
             start: None,
             integer: false,
@@ -380,7 +386,7 @@ impl Layout {
             value_reference: 0,
             quantity: Quantity::Energy,
             causality: Causality::Output,
-            unit: "J/m",
+            unit: extent.energy_unit(),
             description: if keep_inf_mass {
                 "Energy stored in the equivalent network, including 1/2 v.added_mass_inf.v".into()
             } else {
@@ -390,8 +396,8 @@ impl Layout {
             integer: false,
         });
         for (kind, unit_of) in [
-            (0, added_mass_unit as fn(u8) -> &'static str),
-            (1, damping_unit),
+            (0, Extent::added_mass_unit as fn(Extent, u8) -> &'static str),
+            (1, Extent::damping_unit),
         ] {
             for i in 0..n {
                 for j in 0..n {
@@ -419,7 +425,7 @@ impl Layout {
                         value_reference: 0,
                         quantity,
                         causality: Causality::CalculatedParameter,
-                        unit: unit_of(sum),
+                        unit: unit_of(extent, sum),
                         description,
                         start: None,
                         integer: false,
@@ -433,7 +439,7 @@ impl Layout {
                 value_reference: 0,
                 quantity: Quantity::ForceRadiation(i),
                 causality: Causality::Output,
-                unit: d.force_unit(),
+                unit: extent.force_unit(d.length_exponent),
                 description: format!(
                     "Radiation part of force.{} (the equivalent network's force)",
                     d.name
@@ -448,7 +454,7 @@ impl Layout {
                 value_reference: 0,
                 quantity: Quantity::ForceExcitation(i),
                 causality: Causality::Output,
-                unit: d.force_unit(),
+                unit: extent.force_unit(d.length_exponent),
                 description: format!(
                     "Exciting force of the incident waves in DOF {} (0 in calm water)",
                     d.name
@@ -476,7 +482,7 @@ impl Layout {
                     value_reference: 0,
                     quantity: Quantity::StiffnessHydrostatic(i, j),
                     causality: Causality::CalculatedParameter,
-                    unit: stiffness_unit(sum),
+                    unit: extent.stiffness_unit(sum),
                     description: format!(
                         "Hydrostatic restoring, {di}-{dj}: add it to the hull's stiffness matrix; \
                          the structural model adds the initial stress of the pre-loaded shell \

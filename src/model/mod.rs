@@ -348,7 +348,20 @@ impl Model {
             }
             model.excitation = Some(table);
         }
-        if let Some(text) = &resources.hull_xml {
+        if let Some(text) = &resources.hydrostatics_csv {
+            let source = format!("resources/{}", Resources::HYDROSTATICS_FILE);
+            let table =
+                hydrostatics::Table::from_csv_str(text, &source).map_err(ModelError::Waves)?;
+            if table.modes != names {
+                return Err(ModelError::Waves(format!(
+                    "{source}: modes {} differ from the network's DOFs {}",
+                    table.modes.join(" "),
+                    names.join(" ")
+                )));
+            }
+            model.hydrostatics_per_rho_g = Some(table.stiffness_per_rho_g);
+            model.check_hydrostatics(DEFAULT_RHO, DEFAULT_G)?;
+        } else if let Some(text) = &resources.hull_xml {
             let source = format!("resources/{}", Resources::HULL_FILE);
             let hull =
                 Hull::from_xml_str(text, &source).map_err(|e| ModelError::Waves(e.to_string()))?;
@@ -691,6 +704,18 @@ impl Model {
         waves
             .validate()
             .map_err(|e| ModelError::Variable(e.to_string()))?;
+        // A heading the excitation table lacks is refused when it is set (a section's table
+        // has 0 and 180, a ship's the headings it was swept for).
+        if let Some(table) = &self.excitation {
+            if table.heading_index(waves.heading).is_none() {
+                return Err(ModelError::Variable(format!(
+                    "wave.heading = {} deg: the excitation table has no such heading (it has \
+                     {:?}, modulo 360)",
+                    waves.heading,
+                    table.headings()
+                )));
+            }
+        }
         self.state.waves = waves;
         self.outputs_valid = false;
         Ok(())

@@ -74,6 +74,15 @@ impl Model {
             .waves
             .validate()
             .map_err(|e| ModelError::State(format!("wave parameters: {e}")))?;
+        if let Some(table) = &self.excitation {
+            if table.heading_index(state.waves.heading).is_none() {
+                return refuse(format!(
+                    "wave heading {} deg is not one of the excitation table's {:?}",
+                    state.waves.heading,
+                    table.headings()
+                ));
+            }
+        }
         let realized = if (state.rho, state.g) == (self.system.rho, self.system.g) {
             None
         } else {

@@ -163,8 +163,16 @@ pub struct ShipSweep {
     pub excitation: Vec<DMatrix<Complex64>>,
     /// The Froude-Krylov part of the same.
     pub froude_krylov: Vec<DMatrix<Complex64>>,
+    /// The long-wave limit of the exciting force per unit amplitude (`omega -> 0`, every
+    /// heading): `rho g integral T^T (integral_C n ds) dx`, the hydrostatic pressure of the
+    /// wave's crest.
+    pub excitation_long_wave: Vec<f64>,
     /// Hydrostatic restoring (N/m, N, N m), buoyancy part (DESIGN.md).
     pub stiffness_hydrostatic: DMatrix<f64>,
+    /// Each DOF's length exponent `e_j` (0: a length; 1: an angle or mode amplitude).
+    pub length_exponents: Vec<u8>,
+    /// Reference length R of the excitation table's `kR` (the largest section half-beam), m.
+    pub reference_length: f64,
     /// Frequencies that failed, with the reason.
     pub failures: Vec<(f64, String)>,
     /// Physics sanity warnings.
@@ -261,6 +269,22 @@ fn integrate_real(shares: &[Share], n: usize, of: impl Fn(usize) -> DMatrix<f64>
     for share in shares {
         let q = of(share.section);
         total += share.coordinates.transpose() * q * &share.coordinates * share.weight;
+    }
+    total
+}
+
+/// `sum weight T^T q_section` over the shares.
+fn integrate_vector(shares: &[Share], n: usize, of: impl Fn(usize) -> Vec<f64>) -> Vec<f64> {
+    let mut total = vec![0.0; n];
+    for share in shares {
+        let q = of(share.section);
+        for (r, value) in total.iter_mut().enumerate() {
+            *value += share.weight
+                * q.iter()
+                    .enumerate()
+                    .map(|(j, v)| v * share.coordinates[(j, r)])
+                    .sum::<f64>();
+        }
     }
     total
 }
@@ -437,6 +461,11 @@ pub fn run(
         stiffness[(pitch, pitch)] += buoyancy_moment(&shares, &restoring);
     }
     let stiffness_hydrostatic = stiffness * (rho * g);
+    let flux: Vec<Vec<f64>> = solvers.iter().map(Solver::long_wave_excitation).collect();
+    let excitation_long_wave = integrate_vector(&shares, n, |k| flux[k].clone())
+        .iter()
+        .map(|x| x * rho * g)
+        .collect();
 
     let mut result = ShipSweep {
         ship_name: ship.name().to_string(),
@@ -449,7 +478,13 @@ pub fn run(
         headings: params.headings.clone(),
         excitation: Vec::new(),
         froude_krylov: Vec::new(),
+        excitation_long_wave,
         stiffness_hydrostatic,
+        length_exponents: ship.dof_units().iter().map(|u| u.length_exponent).collect(),
+        reference_length: sections
+            .iter()
+            .map(Hull::reference_half_beam)
+            .fold(0.0, f64::max),
         failures: Vec::new(),
         warnings: Vec::new(),
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
@@ -546,6 +581,91 @@ fn readable(x: f64) -> String {
 }
 
 impl ShipSweep {
+    /// The added mass in SI as the identification takes it.
+    pub fn response(&self) -> crate::FrequencyResponse {
+        crate::FrequencyResponse {
+            dof_names: self.dof_names.clone(),
+            omega: self.omega.clone(),
+            added_mass: self.added_mass.clone(),
+            added_mass_inf: self.added_mass_inf.clone(),
+            rho: self.rho,
+            g: self.g,
+        }
+    }
+
+    /// The same sweep restricted to the DOFs `names`, in that order; `None` if a name is not
+    /// in the sweep.
+    pub fn select_dofs(&self, names: &[&str]) -> Option<ShipSweep> {
+        let index: Vec<usize> = names
+            .iter()
+            .map(|name| self.dof_names.iter().position(|d| d == name))
+            .collect::<Option<_>>()?;
+        let n = index.len();
+        let square_c =
+            |m: &DMatrix<Complex64>| DMatrix::from_fn(n, n, |i, j| m[(index[i], index[j])]);
+        let rows = |m: &DMatrix<Complex64>| DMatrix::from_fn(n, m.ncols(), |i, h| m[(index[i], h)]);
+        Some(ShipSweep {
+            dof_names: index.iter().map(|&i| self.dof_names[i].clone()).collect(),
+            added_mass: self.added_mass.iter().map(square_c).collect(),
+            added_mass_inf: DMatrix::from_fn(n, n, |i, j| {
+                self.added_mass_inf[(index[i], index[j])]
+            }),
+            excitation: self.excitation.iter().map(rows).collect(),
+            froude_krylov: self.froude_krylov.iter().map(rows).collect(),
+            excitation_long_wave: index
+                .iter()
+                .map(|&i| self.excitation_long_wave[i])
+                .collect(),
+            stiffness_hydrostatic: DMatrix::from_fn(n, n, |i, j| {
+                self.stiffness_hydrostatic[(index[i], index[j])]
+            }),
+            length_exponents: index.iter().map(|&i| self.length_exponents[i]).collect(),
+            ..self.clone()
+        })
+    }
+
+    /// The exciting force as the FMU's excitation table (`crate::waves::ExcitationTable`):
+    /// `kR,j,heading,re,im` with `kR = omega^2 R / g` and `X_j / (rho g a R^(1 + e_j))`,
+    /// R = [`ShipSweep::reference_length`]; the long-wave rows first.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_excitation_table(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        let r = self.reference_length;
+        writeln!(out, "# hull: {}", self.ship_name)?;
+        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
+        writeln!(out, "# convention: exp(+i omega t)")?;
+        writeln!(out, "# R: {r} m")?;
+        let exponents: Vec<String> = self.length_exponents.iter().map(u8::to_string).collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(
+            out,
+            "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude; whole ship, strip \
+             theory (zero-speed Salvesen-Tuck-Faltinsen)"
+        )?;
+        writeln!(out, "kR,j,heading,re,im")?;
+        let scale: Vec<f64> = self
+            .length_exponents
+            .iter()
+            .map(|&e| self.rho * self.g * r.powi(1 + i32::from(e)))
+            .collect();
+        for heading in &self.headings {
+            for (j, value) in self.excitation_long_wave.iter().enumerate() {
+                writeln!(out, "0,{},{heading},{:e},0", j + 1, value / scale[j] + 0.0)?;
+            }
+        }
+        for (omega, forces) in self.omega.iter().zip(&self.excitation) {
+            let kr = crate::units::kr_from_omega(*omega, r, self.g);
+            for (h, heading) in self.headings.iter().enumerate() {
+                for j in 0..forces.nrows() {
+                    let z = forces[(j, h)] / scale[j];
+                    writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {
         writeln!(out, "# hull: {}", self.ship_name)?;
         writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
@@ -620,6 +740,14 @@ impl ShipSweep {
             }
         }
         Ok(())
+    }
+
+    /// The restoring as the FMU's table ([`crate::hydrostatics::Table`]): `C / (rho g)`.
+    pub fn hydrostatics_table(&self) -> crate::hydrostatics::Table {
+        crate::hydrostatics::Table {
+            modes: self.dof_names.clone(),
+            stiffness_per_rho_g: &self.stiffness_hydrostatic / (self.rho * self.g),
+        }
     }
 
     /// The hydrostatic restoring as CSV: `i,j,c`.

@@ -193,9 +193,9 @@ impl WaveParams {
     /// DNV's range 1..7 for a JONSWAP sea.
     ///
     /// # Errors
-    /// Height < 0 or non-finite, period <= 0 or non-finite, heading other than 0 or 180
-    /// (modulo 360, within [`HEADING_TOLERANCE`]), gamma < 1 or non-finite, components 0 or
-    /// above [`MAX_COMPONENTS`], ramp < 0 or non-finite.
+    /// Height < 0 or non-finite, period <= 0 or non-finite, heading non-finite (which
+    /// headings exist is the excitation table's to say, when the sea is built), gamma < 1 or
+    /// non-finite, components 0 or above [`MAX_COMPONENTS`], ramp < 0 or non-finite.
     pub fn validate(&self) -> Result<Vec<String>, WaveError> {
         if !(self.height.is_finite() && self.height >= 0.0) {
             return Err(WaveError::parameter(
@@ -249,17 +249,16 @@ impl WaveParams {
 fn heading_direction(heading: f64) -> Result<f64, WaveError> {
     if heading.is_finite() {
         let reduced = heading.rem_euclid(360.0);
-        if reduced <= HEADING_TOLERANCE || reduced >= 360.0 - HEADING_TOLERANCE {
+        if reduced >= 360.0 - HEADING_TOLERANCE {
             return Ok(0.0);
         }
-        if (reduced - 180.0).abs() <= HEADING_TOLERANCE {
-            return Ok(180.0);
-        }
+        return Ok(reduced);
     }
     Err(WaveError::parameter(
         "wave.heading",
         heading,
-        "a 2D section takes heading 0 (towards +x) or 180 (towards -x), in degrees modulo 360",
+        "must be finite (degrees; a 2D section's table has 0 and 180, a ship's the headings \
+         it was swept for)",
     ))
 }
 

@@ -14,7 +14,9 @@
 //! direct sum (the direct sum's own phase rounding, `eps omega_n t`, is of the same order).
 
 use super::spectrum::{self, Components};
-use super::{heading_direction, ExcitationTable, WaveError, WaveKind, WaveParams};
+use super::{
+    heading_direction, ExcitationTable, WaveError, WaveKind, WaveParams, HEADING_TOLERANCE,
+};
 use crate::units;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -87,7 +89,8 @@ impl Sea {
         let heading_index = match active_table {
             Some(t) => Some(t.heading_index(heading).ok_or_else(|| WaveError::Band {
                 message: format!(
-                    "the excitation table has no heading {heading} deg (it has {:?})",
+                    "wave.heading = {heading} deg: the excitation table has no such heading \
+                     (it has {:?}; within {HEADING_TOLERANCE} deg, modulo 360)",
                     t.headings()
                 ),
             })?),

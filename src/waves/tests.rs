@@ -362,7 +362,7 @@ fn every_bad_parameter_is_named() {
                 ..base.clone()
             },
             "wave.heading",
-            "90",
+            "90 deg",
         ),
         (
             WaveParams {
@@ -370,7 +370,15 @@ fn every_bad_parameter_is_named() {
                 ..base.clone()
             },
             "wave.heading",
-            "180.001",
+            "180.001 deg",
+        ),
+        (
+            WaveParams {
+                heading: f64::INFINITY,
+                ..base.clone()
+            },
+            "wave.heading",
+            "inf",
         ),
         (
             WaveParams {
@@ -447,7 +455,11 @@ fn a_heading_the_table_lacks_is_an_error() {
         .collect();
     let t = ExcitationTable::from_csv_str(&text, "only0.csv").unwrap();
     let err = Sea::new(&regular_params(1.0, 8.0, 180.0), Some(&t), RHO, G, 0.0).unwrap_err();
-    assert!(err.to_string().contains("no heading 180"), "{err}");
+    assert!(
+        err.to_string()
+            .starts_with("wave.heading = 180 deg: the excitation table has no such heading"),
+        "{err}"
+    );
 }
 
 fn parse_error(text: &str) -> String {
