@@ -82,6 +82,22 @@ fn sweep(
     Ok((result, start.elapsed()))
 }
 
+/// The computed girder modes' dry properties, one line each (empty without `<girder_modes>`):
+/// what the master's structural model of these modes needs.
+pub fn girder_text(ship: &Ship) -> String {
+    ship.girder_modes()
+        .iter()
+        .map(|(name, mode)| {
+            format!(
+                "girder mode {name}: dry natural frequency {:.4} rad/s, modal mass {:.6e}, modal \
+                 stiffness {:.6e} (per unit amplitude squared; unit amplitude = 1 m or 1 rad \
+                 at the largest station)\n",
+                mode.natural_frequency, mode.modal_mass, mode.modal_stiffness
+            )
+        })
+        .collect()
+}
+
 /// Runs the ship's sweep and writes its tables.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
     if args.froude_krylov.is_some() {
@@ -110,6 +126,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     }
     for warning in &result.warnings {
         output::stderr_line(&format!("warning: {warning}"));
+    }
+    for line in girder_text(&ship).lines() {
+        output::stderr_line(line);
     }
     for (omega, reason) in &result.failures {
         output::stderr_line(&format!(
@@ -229,7 +248,7 @@ pub fn fit_text(f: &ShipFit) -> String {
          band {:.4} .. {:.4} rad/s ({} of {} frequencies)\n\
          network: {}, order {}, {} states\n\
          largest error {:.3} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {})\n\
-         sweep {:.2} s, fit {:.2} s",
+         sweep {:.2} s, fit {:.2} s{}{}",
         f.ship.name(),
         f.ship.stations().len(),
         f.ship.sections().len(),
@@ -249,7 +268,13 @@ pub fn fit_text(f: &ShipFit) -> String {
         100.0 * fit.tolerance,
         if fit.tolerance_met { "met" } else { "NOT met" },
         f.times.0.as_secs_f64(),
-        f.times.1.as_secs_f64()
+        f.times.1.as_secs_f64(),
+        if f.ship.girder_modes().is_empty() {
+            ""
+        } else {
+            "\n"
+        },
+        girder_text(&f.ship).trim_end()
     )
 }
 

@@ -1,6 +1,7 @@
 //! Ship files (`docs/SHIP_FORMAT.md`), read with [`crate::xml`]. Every error names the file,
 //! the line, the station and the field.
 
+use super::girder::{modes, GirderKind, GirderMode};
 use super::{SectionMotion, Ship, ShipDof, ShipError, Station, MAX_ELASTIC_MODES, RIGID_DOFS};
 use crate::hull::{valid_dof_name, valid_hull_name, Hull};
 use crate::xml::{self, Element};
@@ -83,6 +84,8 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
     let mut files: Vec<(PathBuf, Hull)> = Vec::new();
     let mut rigid: Option<(Vec<String>, usize)> = None;
     let mut modes: Vec<(&Element, String)> = Vec::new();
+    let mut structure: Vec<[Option<f64>; 5]> = Vec::new();
+    let mut girder: Option<(&Element, usize)> = None;
     for child in &root.children {
         let line = child.line;
         match child.name.as_str() {
@@ -93,9 +96,35 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                         format!("more than {} stations", super::MAX_STATIONS),
                     ));
                 }
-                child.only_attributes(&["x"]).map_err(at)?;
+                child
+                    .only_attributes(&[
+                        "x",
+                        "mass",
+                        "bending_stiffness_vertical",
+                        "bending_stiffness_horizontal",
+                        "torsional_stiffness",
+                        "roll_inertia",
+                    ])
+                    .map_err(at)?;
                 let x = child.required_number("x").map_err(at)?;
                 let number = stations.len() + 1;
+                let mut data = [None; 5];
+                for (slot, key) in data.iter_mut().zip(STRUCTURE) {
+                    if let Some(raw) = child.attribute(key) {
+                        let value = xml::parse_number(raw).unwrap_or(f64::NAN);
+                        if !(value.is_finite() && value > 0.0) {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "station {number} at x = {x} m: {key} = \"{raw}\" must be \
+                                     a positive, finite number"
+                                ),
+                            ));
+                        }
+                        *slot = Some(value);
+                    }
+                }
+                structure.push(data);
                 if child.children.len() > 1 {
                     return Err(err(
                         child.children[1].line,
@@ -180,10 +209,26 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                 }
                 modes.push((child, mode_name.to_string()));
             }
+            "girder_modes" => {
+                if let Some((first, _)) = girder {
+                    return Err(err(
+                        line,
+                        format!("second <girder_modes> (first on line {})", first.line),
+                    ));
+                }
+                child
+                    .only_attributes(&["vertical", "horizontal", "torsion"])
+                    .map_err(at)?;
+                child.no_children().map_err(at)?;
+                girder = Some((child, modes.len()));
+            }
             other => {
                 return Err(err(
                     line,
-                    format!("unknown element <{other}> in <ship>; expected station, rigid or mode"),
+                    format!(
+                        "unknown element <{other}> in <ship>; expected station, rigid, mode or \
+                         girder_modes"
+                    ),
                 ))
             }
         }
@@ -198,6 +243,7 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
             motions: None,
         })
         .collect();
+    let modes_count = modes.len();
     for (element, mode_name) in modes {
         if element.children.len() != stations.len() {
             return Err(err(
@@ -261,14 +307,115 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
             motions: Some(motions),
         });
     }
-    Ship::new(name, stations, sections, dofs, source).map_err(|e| {
+    let mut girder_modes = Vec::new();
+    if let Some((element, position)) = girder {
+        let computed = girder_dofs(element, &stations, &structure, source)?;
+        let at = dofs.len() - modes_count + position;
+        for (k, (dof, mode)) in computed.into_iter().enumerate() {
+            girder_modes.push((dof.name.clone(), mode));
+            dofs.insert(at + k, dof);
+        }
+    }
+    let mut ship = Ship::new(name, stations, sections, dofs, source).map_err(|e| {
         // Point at the ship element when Ship::new found the problem.
         ShipError::new(
             source,
             e.line().or(Some(root.line)),
             e.message().to_string(),
         )
-    })
+    })?;
+    ship.girder_modes = girder_modes;
+    Ok(ship)
+}
+
+/// The structural data a station may carry, in the order of the reader's slots.
+const STRUCTURE: [&str; 5] = [
+    "mass",
+    "bending_stiffness_vertical",
+    "bending_stiffness_horizontal",
+    "torsional_stiffness",
+    "roll_inertia",
+];
+
+/// The girder modes `<girder_modes vertical horizontal torsion>` asks for, as ship DOFs
+/// (`vb1.., hb1.., t1..`) with their dry properties.
+fn girder_dofs(
+    element: &Element,
+    stations: &[Station],
+    structure: &[[Option<f64>; 5]],
+    source: &str,
+) -> Result<Vec<(ShipDof, GirderMode)>, ShipError> {
+    let err = |m: String| ShipError::new(source, Some(element.line), m);
+    let at = |e: xml::XmlError| ShipError::new(source, Some(e.line), e.message);
+    let count = |key: &str| -> Result<usize, ShipError> {
+        let value = element.optional_number(key, 0.0).map_err(at)?;
+        if !((0.0..=20.0).contains(&value) && value.fract() == 0.0) {
+            return Err(err(format!(
+                "{key}=\"{value}\" must be a whole number from 0 to 20"
+            )));
+        }
+        Ok(value as usize)
+    };
+    let x: Vec<f64> = stations.iter().map(|s| s.x).collect();
+    let field = |slot: usize| -> Result<Vec<f64>, ShipError> {
+        structure
+            .iter()
+            .zip(stations)
+            .enumerate()
+            .map(|(k, (data, station))| {
+                data[slot].ok_or_else(|| {
+                    err(format!(
+                        "station {} at x = {} m has no {}, which <girder_modes> needs",
+                        k + 1,
+                        station.x,
+                        STRUCTURE[slot]
+                    ))
+                })
+            })
+            .collect()
+    };
+    let mut out = Vec::new();
+    for (key, kind, prefix, inertia, stiffness) in [
+        ("vertical", GirderKind::Vertical, "vb", 0, 1),
+        ("horizontal", GirderKind::Horizontal, "hb", 0, 2),
+        ("torsion", GirderKind::Torsion, "t", 4, 3),
+    ] {
+        let n = count(key)?;
+        if n == 0 {
+            continue;
+        }
+        let found = modes(kind, &x, &field(inertia)?, &field(stiffness)?, n).map_err(err)?;
+        for (k, mode) in found.into_iter().enumerate() {
+            let motions = mode
+                .shape
+                .iter()
+                .map(|&value| {
+                    let (sway, heave, roll) = match kind {
+                        GirderKind::Vertical => (0.0, value, 0.0),
+                        GirderKind::Horizontal => (value, 0.0, 0.0),
+                        GirderKind::Torsion => (0.0, 0.0, value),
+                    };
+                    SectionMotion {
+                        sway,
+                        heave,
+                        roll,
+                        amplitudes: Vec::new(),
+                    }
+                })
+                .collect();
+            out.push((
+                ShipDof {
+                    name: format!("{prefix}{}", k + 1),
+                    motions: Some(motions),
+                },
+                mode,
+            ));
+        }
+    }
+    if out.is_empty() {
+        return Err(err("<girder_modes> asks for no mode".to_string()));
+    }
+    Ok(out)
 }
 
 /// The section of one station: `<semicircle radius>`, `<lewis breadth draft

@@ -38,6 +38,7 @@
 //! * `strip.rs`: the sweep of every distinct section and the strip integration.
 
 mod file;
+pub mod girder;
 pub mod strip;
 
 pub use strip::{ShipSweep, ShipSweepParams};
@@ -137,6 +138,7 @@ pub struct Ship {
     stations: Vec<Station>,
     sections: Vec<Hull>,
     dofs: Vec<ShipDof>,
+    girder_modes: Vec<(String, girder::GirderMode)>,
 }
 
 impl Ship {
@@ -237,7 +239,15 @@ impl Ship {
             stations,
             sections,
             dofs,
+            girder_modes: Vec::new(),
         })
+    }
+
+    /// The girder modes computed from the stations' structural data (`<girder_modes>`), by
+    /// DOF name, with their dry natural frequency and modal mass and stiffness: what a
+    /// master's structural model of these modes needs.
+    pub fn girder_modes(&self) -> &[(String, girder::GirderMode)] {
+        &self.girder_modes
     }
 
     /// The ship's name.

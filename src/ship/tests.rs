@@ -333,3 +333,78 @@ fn a_lewis_hull_file_round_trips_and_takes_rigid_dofs_only() {
         .to_string();
     assert!(e.contains("rigid DOFs only"), "{e}");
 }
+
+fn structural_barge(extra_station: &str, girder: &str) -> Result<Ship, ShipError> {
+    let mut text = String::from("<ship name=\"girder\">\n");
+    for k in 0..21 {
+        let x = -50.0 + 5.0 * k as f64;
+        let attributes = if k == 10 {
+            extra_station.to_string()
+        } else {
+            "mass=\"5e4\" bending_stiffness_vertical=\"1e12\" torsional_stiffness=\"4e11\" roll_inertia=\"6e5\"".to_string()
+        };
+        text.push_str(&format!(
+            "<station x=\"{x}\" {attributes}><lewis breadth=\"10\" draft=\"5\" area_coefficient=\"0.95\"/></station>\n"
+        ));
+    }
+    text.push_str(&format!("<rigid dofs=\"heave pitch\"/>{girder}</ship>\n"));
+    Ship::from_xml_str(&text, "girder.xml", Path::new("."))
+}
+
+/// `<girder_modes>` computes the free-free modes of the stations' structure: for a uniform
+/// girder the textbook first bending mode (beta L = 4.7300) and torsion mode (pi / L), in the
+/// DOF order of the file, with their dry properties.
+#[test]
+fn girder_modes_come_from_the_stations_structure() {
+    let uniform = "mass=\"5e4\" bending_stiffness_vertical=\"1e12\" torsional_stiffness=\"4e11\" roll_inertia=\"6e5\"";
+    let ship = structural_barge(uniform, "<girder_modes vertical=\"2\" torsion=\"1\"/>").unwrap();
+    assert_eq!(ship.dof_names(), ["heave", "pitch", "vb1", "vb2", "t1"]);
+    let modes = ship.girder_modes();
+    let length: f64 = 100.0;
+    let bending = 4.730_040_744_862_704_f64.powi(2) * (1e12 / (5e4 * length.powi(4))).sqrt();
+    assert!((modes[0].1.natural_frequency / bending - 1.0).abs() < 1e-4);
+    let torsion = PI / length * (4e11_f64 / 6e5).sqrt();
+    assert!((modes[2].1.natural_frequency / torsion - 1.0).abs() < 2e-3);
+    // The computed vb1 at the stations is the analytic shape of examples/ships/generate.py.
+    let beta_l = 4.730_040_744_862_704_f64;
+    let s = (beta_l.cosh() - beta_l.cos()) / (beta_l.sinh() - beta_l.sin());
+    let shape = |z: f64| z.cosh() + z.cos() - s * (z.sinh() + z.sin());
+    for (k, station) in ship.stations().iter().enumerate() {
+        let exact = shape(beta_l * (station.x / length + 0.5)) / shape(0.0);
+        let motion = ship.motion(2, k);
+        assert!(
+            (motion.heave - exact).abs() < 1e-4,
+            "{k}: {} vs {exact}",
+            motion.heave
+        );
+        assert_eq!((motion.sway, motion.roll), (0.0, 0.0));
+        assert!((ship.motion(4, k).roll - 1.0).abs() < 1e-12 || k > 0);
+    }
+}
+
+#[test]
+fn girder_modes_need_every_station_s_structure() {
+    let e = structural_barge("mass=\"5e4\"", "<girder_modes vertical=\"1\"/>")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("station 11 at x = 0 m has no bending_stiffness_vertical"),
+        "{e}"
+    );
+    let e = structural_barge("mass=\"NaN\"", "<girder_modes vertical=\"1\"/>")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("station 11 at x = 0 m: mass = \"NaN\""), "{e}");
+    let e = structural_barge("mass=\"-1\" bending_stiffness_vertical=\"1\"", "")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("station 11 at x = 0 m: mass = \"-1\" must be a positive"),
+        "{e}"
+    );
+    let uniform = "mass=\"5e4\" bending_stiffness_vertical=\"1e12\"";
+    let e = structural_barge(uniform, "<girder_modes vertical=\"2.5\"/>")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("whole number"), "{e}");
+}
