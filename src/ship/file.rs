@@ -78,7 +78,6 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
     }
 
     let mut stations: Vec<Station> = Vec::new();
-    let mut station_lines: Vec<usize> = Vec::new();
     let mut sections: Vec<Hull> = Vec::new();
     let mut fingerprints: Vec<String> = Vec::new();
     let mut files: Vec<(PathBuf, Hull)> = Vec::new();
@@ -86,10 +85,19 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
     let mut modes: Vec<(&Element, String)> = Vec::new();
     let mut structure: Vec<[Option<f64>; 5]> = Vec::new();
     let mut girder: Option<(&Element, usize)> = None;
+    let mut offsets_line: Option<usize> = None;
     for child in &root.children {
         let line = child.line;
         match child.name.as_str() {
             "station" => {
+                if let Some(first) = offsets_line {
+                    return Err(err(
+                        line,
+                        format!(
+                            "<station> after <offsets> (line {first}), which gives every station"
+                        ),
+                    ));
+                }
                 if stations.len() == super::MAX_STATIONS {
                     return Err(err(
                         line,
@@ -149,7 +157,6 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                     }
                 };
                 stations.push(Station { x, section });
-                station_lines.push(line);
             }
             "rigid" => {
                 if let Some((_, first)) = &rigid {
@@ -209,6 +216,54 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                 }
                 modes.push((child, mode_name.to_string()));
             }
+            "offsets" => {
+                if !stations.is_empty() {
+                    return Err(err(
+                        line,
+                        "<offsets> gives every station; the file already has <station>s"
+                            .to_string(),
+                    ));
+                }
+                child
+                    .only_attributes(&["file", "format", "waterline"])
+                    .map_err(at)?;
+                child.no_children().map_err(at)?;
+                let format = child.required("format").map_err(at)?;
+                if format != "pdstrip" {
+                    return Err(err(
+                        line,
+                        format!("format=\"{format}\": the offsets format known is \"pdstrip\""),
+                    ));
+                }
+                let waterline = match child.attribute("waterline") {
+                    Some(_) => Some(child.required_number("waterline").map_err(at)?),
+                    None => None,
+                };
+                let file = folder.join(child.required("file").map_err(at)?);
+                let text = read_bounded(&file)
+                    .map_err(|m| err(line, format!("{}: {m}", file.display())))?;
+                let read = super::pdstrip::read(&text, &file.display().to_string(), waterline)
+                    .map_err(|m| err(line, m))?;
+                for station in read {
+                    let section = station.hull.map(|hull| {
+                        let print = hull.fingerprint();
+                        match fingerprints.iter().position(|f| *f == print) {
+                            Some(k) => k,
+                            None => {
+                                fingerprints.push(print);
+                                sections.push(hull);
+                                sections.len() - 1
+                            }
+                        }
+                    });
+                    stations.push(Station {
+                        x: station.x,
+                        section,
+                    });
+                    structure.push([None; 5]);
+                }
+                offsets_line = Some(line);
+            }
             "girder_modes" => {
                 if let Some((first, _)) = girder {
                     return Err(err(
@@ -226,8 +281,8 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                 return Err(err(
                     line,
                     format!(
-                        "unknown element <{other}> in <ship>; expected station, rigid, mode or \
-                         girder_modes"
+                        "unknown element <{other}> in <ship>; expected station, offsets, rigid, \
+                         mode or girder_modes"
                     ),
                 ))
             }

@@ -39,6 +39,7 @@
 
 mod file;
 pub mod girder;
+mod pdstrip;
 pub mod strip;
 
 pub use strip::{ShipSweep, ShipSweepParams};

@@ -408,3 +408,69 @@ fn girder_modes_need_every_station_s_structure() {
         .to_string();
     assert!(e.contains("whole number"), "{e}");
 }
+
+/// A ship whose stations come from a PDStrip offset file is the same ship as one written
+/// with the same sections as hull files: identical added mass and restoring.
+#[test]
+fn a_pdstrip_offset_file_gives_the_same_ship_as_its_hull_files() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-pdstrip-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Base line at the keel, waterline at z = 3 (not the reference draft 2: given explicitly).
+    let mut offsets = String::from("3 F 2.0\n");
+    for x in [-20.0, 0.0, 20.0] {
+        offsets.push_str(&format!("{x} 5 0\n4 4 2 -4 -4\n3 0.5 0 0.5 3\n"));
+    }
+    std::fs::write(dir.join("hull.out"), offsets).unwrap();
+    std::fs::write(
+        dir.join("section.xml"),
+        "<hull name=\"v\" half_beam=\"4\"><contour><point x=\"-4\" y=\"0\"/><point x=\"-4\" y=\"-2.5\"/>\
+         <point x=\"2\" y=\"-3\"/><point x=\"4\" y=\"-2.5\"/><point x=\"4\" y=\"0\"/></contour>\
+         <rigid name=\"sway\" kind=\"sway\"/></hull>",
+    )
+    .unwrap();
+    let from_offsets = Ship::from_xml_str(
+        "<ship name=\"p\"><offsets file=\"hull.out\" format=\"pdstrip\" waterline=\"3\"/></ship>",
+        "p.xml",
+        &dir,
+    )
+    .unwrap();
+    let mut stations = String::new();
+    for x in [-20.0, 0.0, 20.0] {
+        stations.push_str(&format!(
+            "<station x=\"{x}\"><hull file=\"section.xml\"/></station>"
+        ));
+    }
+    let from_hulls = Ship::from_xml_str(
+        &format!("<ship name=\"p\">{stations}</ship>"),
+        "h.xml",
+        &dir,
+    )
+    .unwrap();
+    assert_eq!(from_offsets.sections().len(), 1);
+    let p = params(&from_offsets, &[0.9], &[90.0]);
+    let (a, b) = (
+        run(&from_offsets, &p, &|_, _| {}).unwrap(),
+        run(&from_hulls, &p, &|_, _| {}).unwrap(),
+    );
+    // The offsets run starboard-first here (y = 4 .. -4), reversed on reading: the same contour.
+    let scale = a.added_mass[0][(1, 1)].norm();
+    for (x, y) in a.added_mass[0].iter().zip(b.added_mass[0].iter()) {
+        close(*x, *y, scale, "offsets against hull files");
+    }
+    assert!(
+        (&a.stiffness_hydrostatic - &b.stiffness_hydrostatic).amax()
+            < 1e-9 * a.stiffness_hydrostatic.amax()
+    );
+    let e = Ship::from_xml_str(
+        "<ship name=\"p\"><offsets file=\"hull.out\" format=\"pdstrip\"/></ship>",
+        "p.xml",
+        &dir,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("section 1 at x = -20 m") && e.contains("waterline"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
