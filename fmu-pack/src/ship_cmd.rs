@@ -57,6 +57,7 @@ fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
     }
     if let Some(panels) = args.panels {
         params.panels.body_panels = panels;
+        params.panels_with_corners.body_panels = panels;
     }
     params.extrapolation_levels = args.levels;
     params.threads = args.threads;

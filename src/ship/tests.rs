@@ -28,6 +28,10 @@ fn params(ship: &Ship, omega: &[f64], headings: &[f64]) -> ShipSweepParams {
             body_panels: 32,
             ..crate::PanelParams::default()
         },
+        panels_with_corners: crate::PanelParams {
+            body_panels: 32,
+            ..crate::PanelParams::default()
+        },
         extrapolation_levels: 2,
         ..ShipSweepParams::for_ship(ship)
     }
