@@ -1,7 +1,7 @@
 //! Mutation fuzzing of every file parser the component and `fmu-pack` read (docs/STABILITY.md):
 //! the generic XML reader, network files (read, realized, stepped, every value read finite or
-//! refused), hull files (read, panelled),
-//! the options file and the excitation table. Each target starts from valid files and the
+//! refused), hull files (read, panelled), the options file, the excitation table, ship files,
+//! PDStrip offset files and the restoring table. Each target starts from valid files and the
 //! crafted cases of the hostile-input issue, mutates them (bit flips, XML-ish bytes, deleted,
 //! repeated or spliced ranges, numbers replaced by extreme ones, truncation) and asserts that
 //! nothing panics and that what is accepted is usable: a network realizes and steps, a hull
@@ -19,8 +19,10 @@
 
 use hydrofmu::fmu::Resources;
 use hydrofmu::hull::Hull;
+use hydrofmu::hydrostatics::Table;
 use hydrofmu::network::Network;
 use hydrofmu::panels::{self, PanelParams};
+use hydrofmu::ship::Ship;
 use hydrofmu::waves::ExcitationTable;
 use hydrofmu::{Model, ModelOptions};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -337,5 +339,89 @@ fn fuzz_excitation_tables() {
     ];
     fuzz("excitation", &seeds, 2, |text| {
         Ok(ExcitationTable::from_csv_str(text, "fuzz.csv").is_ok())
+    });
+}
+
+#[test]
+fn fuzz_ship_files() {
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ships");
+    let small = "<ship name=\"s\"><station x=\"-5\" mass=\"1e4\" bending_stiffness_vertical=\"1e9\">\
+                 <semicircle radius=\"1\"/></station><station x=\"0\" mass=\"1e4\" \
+                 bending_stiffness_vertical=\"1e9\"><lewis breadth=\"2\" draft=\"1\" \
+                 area_coefficient=\"0.9\"/></station><station x=\"5\" mass=\"1e4\" \
+                 bending_stiffness_vertical=\"1e9\"/><rigid dofs=\"heave pitch\"/>\
+                 <mode name=\"m\"><at w=\"1\" cb2=\"0.5\"/><at w=\"-1\"/><at x=\"5\" w=\"1\"/></mode>\
+                 <girder_modes vertical=\"1\"/></ship>";
+    let seeds = vec![
+        small.to_string(),
+        read("examples/ships/barge.xml"),
+        nested("ship", "station", 100),
+    ];
+    fuzz("ship", &seeds, 2, |text| {
+        let Ok(ship) = Ship::from_xml_str(text, "fuzz.xml", &folder) else {
+            return Ok(false);
+        };
+        // What was accepted is usable: every motion finite, the stations in order.
+        for r in 0..ship.dofs().len() {
+            for k in 0..ship.stations().len() {
+                let m = ship.motion(r, k);
+                if ![m.sway, m.heave, m.roll].iter().all(|v| v.is_finite()) {
+                    return Err(format!("DOF {r} at station {k}: {m:?}"));
+                }
+            }
+        }
+        if ship.length().is_nan() || ship.length() <= 0.0 {
+            return Err(format!("length {}", ship.length()));
+        }
+        Ok(true)
+    });
+}
+
+#[test]
+fn fuzz_pdstrip_offsets() {
+    let seeds = vec![
+        "3 T 5.0\n-10.0 3 0\n0.0 5.0 5.0 0.0 0.0 5.0\n0.0 3 0\n0 5 5\n0 0 5\n10.0D0 3 0\n\
+         0.0 5.0 5.0 0.0 0.0 5.0\n"
+            .to_string(),
+        "2 F 2.0\n-20 5 0\n4 4 2 -4 -4\n2 0.5 0 0.5 2\n20 5 0\n4 4 2 -4 -4\n2 0.5 0 0.5 2\n"
+            .to_string(),
+    ];
+    fuzz("offsets", &seeds, 2, |text| {
+        let Ok(ship) = Ship::from_offsets_str("fuzz", text, "fuzz.out", None) else {
+            return Ok(false);
+        };
+        for hull in ship.sections() {
+            let params = PanelParams {
+                body_panels: 32,
+                ..PanelParams::for_hull(hull)
+            };
+            let _ = panels::discretize(hull, &params);
+        }
+        Ok(true)
+    });
+}
+
+#[test]
+fn fuzz_restoring_tables() {
+    let table = Table {
+        modes: vec!["heave".into(), "pitch".into(), "vb1".into()],
+        stiffness_per_rho_g: nalgebra::DMatrix::from_row_slice(
+            3,
+            3,
+            &[1000.0, -5.0, 3.0, -5.0, 8.0e5, 1.0, 3.0, 1.0, 2.0e3],
+        ),
+    };
+    let seeds = vec![table.to_csv("barge", "whole ship")];
+    fuzz("restoring", &seeds, 1, |text| {
+        let Ok(t) = Table::from_csv_str(text, "fuzz.csv") else {
+            return Ok(false);
+        };
+        let n = t.modes.len();
+        if t.stiffness_per_rho_g.shape() != (n, n)
+            || !t.stiffness_per_rho_g.iter().all(|c| c.is_finite())
+        {
+            return Err("accepted a table of the wrong shape or with a non-finite entry".into());
+        }
+        Ok(true)
     });
 }

@@ -19,6 +19,51 @@ impl Ship {
         Ship::from_xml_str(&text, &source, &folder)
     }
 
+    /// A ship of rigid DOFs ([`RIGID_DOFS`]) on the stations of a PDStrip offset file's
+    /// text (docs/SHIPS.md); `waterline` as the `<offsets>` element's attribute.
+    ///
+    /// # Errors
+    /// A malformed offset file (file, line and field), or a ship that fails [`Ship::new`].
+    pub fn from_offsets_str(
+        name: &str,
+        text: &str,
+        source_name: &str,
+        waterline: Option<f64>,
+    ) -> Result<Ship, ShipError> {
+        let read = super::pdstrip::read(text, source_name, waterline).map_err(|m| {
+            // The reader's messages start with "source:line: ".
+            let rest = m
+                .strip_prefix(source_name)
+                .and_then(|r| r.strip_prefix(':'));
+            let located = rest.and_then(|r| {
+                let (line, message) = r.split_once(": ")?;
+                Some((line.parse().ok()?, message.to_string()))
+            });
+            match located {
+                Some((line, message)) => ShipError::new(source_name, Some(line), message),
+                None => ShipError::new(source_name, None, m),
+            }
+        })?;
+        let (mut sections, mut fingerprints) = (Vec::new(), Vec::new());
+        let stations = read
+            .into_iter()
+            .map(|station| Station {
+                x: station.x,
+                section: station
+                    .hull
+                    .map(|hull| distinct(hull, &mut sections, &mut fingerprints)),
+            })
+            .collect();
+        let dofs = RIGID_DOFS
+            .iter()
+            .map(|name| ShipDof {
+                name: name.to_string(),
+                motions: None,
+            })
+            .collect();
+        Ship::new(name, stations, sections, dofs, source_name)
+    }
+
     /// Parses ship XML; `source_name` names it in errors, `folder` is where its hull files are.
     ///
     /// # Errors
@@ -27,6 +72,19 @@ impl Ship {
         let root =
             xml::parse(text).map_err(|e| ShipError::new(source_name, Some(e.line), e.message))?;
         build(&root, source_name, folder)
+    }
+}
+
+/// The index of `hull` among the distinct `sections` (by fingerprint), added if new.
+fn distinct(hull: Hull, sections: &mut Vec<Hull>, fingerprints: &mut Vec<String>) -> usize {
+    let print = hull.fingerprint();
+    match fingerprints.iter().position(|f| *f == print) {
+        Some(k) => k,
+        None => {
+            fingerprints.push(print);
+            sections.push(hull);
+            sections.len() - 1
+        }
     }
 }
 
@@ -145,15 +203,7 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                         let hull = section_of(shape, source, folder, &mut files).map_err(|m| {
                             err(shape.line, format!("station {number} at x = {x} m: {m}"))
                         })?;
-                        let print = hull.fingerprint();
-                        Some(match fingerprints.iter().position(|f| *f == print) {
-                            Some(k) => k,
-                            None => {
-                                fingerprints.push(print);
-                                sections.push(hull);
-                                sections.len() - 1
-                            }
-                        })
+                        Some(distinct(hull, &mut sections, &mut fingerprints))
                     }
                 };
                 stations.push(Station { x, section });
@@ -245,17 +295,9 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
                 let read = super::pdstrip::read(&text, &file.display().to_string(), waterline)
                     .map_err(|m| err(line, m))?;
                 for station in read {
-                    let section = station.hull.map(|hull| {
-                        let print = hull.fingerprint();
-                        match fingerprints.iter().position(|f| *f == print) {
-                            Some(k) => k,
-                            None => {
-                                fingerprints.push(print);
-                                sections.push(hull);
-                                sections.len() - 1
-                            }
-                        }
-                    });
+                    let section = station
+                        .hull
+                        .map(|hull| distinct(hull, &mut sections, &mut fingerprints));
                     stations.push(Station {
                         x: station.x,
                         section,

@@ -478,3 +478,15 @@ fn a_pdstrip_offset_file_gives_the_same_ship_as_its_hull_files() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_offset_file_alone_is_a_ship_of_rigid_dofs() {
+    let text = "2 T 5\n-10 3 0\n0 5 5 0 0 5\n10 3 0\n0 5 5 0 0 5\n";
+    let ship = Ship::from_offsets_str("box", text, "box.out", None).unwrap();
+    assert_eq!(ship.dof_names(), RIGID_DOFS);
+    assert_eq!(ship.sections().len(), 1);
+    let e =
+        Ship::from_offsets_str("box", "2 T 5\n-10 3 0\n0 5 5 0 0\n", "box.out", None).unwrap_err();
+    assert_eq!(e.line(), Some(3));
+    assert!(e.to_string().starts_with("box.out:3: the file ends"), "{e}");
+}
