@@ -40,12 +40,8 @@ fn parse_headings(text: &str) -> Result<Vec<f64>, String> {
 
 /// The ship of a ship-file argument and its sweep parameters from the shared options.
 fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
-    let section_only = [
-        ("--depth", args.depth.is_some()),
-        ("--dofs", args.dofs.is_some()),
-    ];
-    if let Some((flag, _)) = section_only.iter().find(|(_, given)| *given) {
-        return Err(format!("{flag} applies to a section, not to a ship file"));
+    if args.depth.is_some() {
+        return Err("--depth applies to a built-in circle, not to a ship file".to_string());
     }
     let ship = Ship::from_file(Path::new(&args.hull)).map_err(|e| e.to_string())?;
     let mut params = ShipSweepParams::for_ship(&ship);
@@ -70,16 +66,38 @@ fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
     Ok((ship, params))
 }
 
-/// The ship's sweep with a progress bar.
+/// The ship's sweep with a progress bar, restricted to the `--dofs` of `args` when given (the
+/// sections are solved whole either way).
 fn sweep(
     ship: &Ship,
     params: &ShipSweepParams,
-    name: &str,
+    args: &HullSweepArgs,
 ) -> Result<(ShipSweep, Duration), String> {
+    let names: Option<Vec<&str>> = args
+        .dofs
+        .as_deref()
+        .map(|list| list.split(',').map(str::trim).collect());
+    if let Some(names) = &names {
+        let available = ship.dof_names();
+        for (k, name) in names.iter().enumerate() {
+            if !available.contains(name) || names[..k].contains(name) {
+                return Err(format!(
+                    "--dofs: '{name}' is not a DOF of ship '{}' or is named twice; its DOFs: {}",
+                    ship.name(),
+                    available.join(" ")
+                ));
+            }
+        }
+    }
     let progress = Progress::new("ship sweep");
     let start = Instant::now();
-    let result = ship::strip::run(ship, params, &|done, total| progress.update(done, total))
-        .map_err(|e| format!("{name}: {e}"))?;
+    let mut result = ship::strip::run(ship, params, &|done, total| progress.update(done, total))
+        .map_err(|e| format!("{}: {e}", args.hull))?;
+    if let Some(names) = &names {
+        result = result
+            .select_dofs(names)
+            .ok_or_else(|| format!("--dofs: not all of {} were swept", names.join(" ")))?;
+    }
     Ok((result, start.elapsed()))
 }
 
@@ -105,7 +123,7 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         return Err("--froude-krylov applies to a section, not to a ship file".to_string());
     }
     let (ship, params) = resolve(&args.sweep)?;
-    let (result, elapsed) = sweep(&ship, &params, &args.sweep.hull)?;
+    let (result, elapsed) = sweep(&ship, &params, &args.sweep)?;
     let mut text = Vec::new();
     result
         .write_csv(&mut text)
@@ -206,7 +224,7 @@ pub fn fit(
         }
         hi = hi.min(nyquist);
     }
-    let (swept, sweep_time) = sweep(&ship, &params, &args.hull)?;
+    let (swept, sweep_time) = sweep(&ship, &params, args)?;
     for warning in &swept.warnings {
         output::stderr_line(&format!("warning: {warning}"));
     }
@@ -311,7 +329,12 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     }
     let body = HullInfo {
         name,
-        dofs: fitted.ship.dof_units(),
+        dofs: fitted
+            .ship
+            .dof_units()
+            .into_iter()
+            .filter(|u| fitted.sweep.dof_names.contains(&u.name))
+            .collect(),
         xml: None,
         extent: Extent::WholeBody,
         hydrostatics_csv: Some(

@@ -86,10 +86,50 @@ fn sweep_of_a_ship_file_writes_the_whole_ship_tables() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--dofs` keeps the ship DOFs named, in that order (the sections are solved whole).
+#[test]
+fn dofs_select_the_ship_dofs() {
+    let (ok, csv, err) = fmu_pack(&[
+        "sweep",
+        &example("barge.xml"),
+        "--dofs",
+        "vb1,heave",
+        "--omega",
+        "0.5:1:2",
+        "--panels",
+        "32",
+        "--levels",
+        "1",
+        "-o",
+        "-",
+    ]);
+    assert!(ok, "{err}");
+    assert!(csv.contains("# modes: vb1 heave\n"), "{csv}");
+    assert_eq!(
+        csv.lines().filter(|l| !l.starts_with(['#', 'o'])).count(),
+        4 * 3
+    );
+}
+
 #[test]
 fn ship_errors_name_the_file_and_the_option() {
-    let (ok, _, err) = fmu_pack(&["sweep", &example("barge.xml"), "--dofs", "heave", "-o", "-"]);
-    assert!(!ok && err.contains("--dofs applies to a section"), "{err}");
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        &example("barge.xml"),
+        "--dofs",
+        "heave,surge",
+        "-o",
+        "-",
+    ]);
+    assert!(
+        !ok && err.contains("--dofs: 'surge' is not a DOF of ship 'barge'"),
+        "{err}"
+    );
+    let (ok, _, err) = fmu_pack(&["sweep", &example("barge.xml"), "--depth", "2", "-o", "-"]);
+    assert!(
+        !ok && err.contains("--depth applies to a built-in circle"),
+        "{err}"
+    );
     let (ok, _, err) = fmu_pack(&["sweep", "semicircle", "--omega", "1:2:3", "-o", "-"]);
     assert!(
         !ok && err.contains("--omega and --headings apply to ship files"),
