@@ -103,9 +103,10 @@ fn sweep(
 
 /// The computed girder modes' dry properties, one line each (empty without `<girder_modes>`):
 /// what the master's structural model of these modes needs.
-pub fn girder_text(ship: &Ship) -> String {
+pub fn girder_text(ship: &Ship, dofs: &[String]) -> String {
     ship.girder_modes()
         .iter()
+        .filter(|(name, _)| dofs.contains(name))
         .map(|(name, mode)| {
             format!(
                 "girder mode {name}: dry natural frequency {:.4} rad/s, modal mass {:.6e}, modal \
@@ -146,7 +147,7 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     for warning in &result.warnings {
         output::stderr_line(&format!("warning: {warning}"));
     }
-    for line in girder_text(&ship).lines() {
+    for line in girder_text(&ship, &result.dof_names).lines() {
         output::stderr_line(line);
     }
     for (omega, reason) in &result.failures {
@@ -262,6 +263,7 @@ pub fn fit(
 /// The fit in words, for the terminal and the archive's documentation.
 pub fn fit_text(f: &ShipFit) -> String {
     let fit = &f.fit;
+    let girder = girder_text(&f.ship, &f.sweep.dof_names);
     format!(
         "ship {}: {} stations, {} distinct sections, DOFs {}\n\
          band {:.4} .. {:.4} rad/s ({} of {} frequencies)\n\
@@ -288,12 +290,8 @@ pub fn fit_text(f: &ShipFit) -> String {
         if fit.tolerance_met { "met" } else { "NOT met" },
         f.times.0.as_secs_f64(),
         f.times.1.as_secs_f64(),
-        if f.ship.girder_modes().is_empty() {
-            ""
-        } else {
-            "\n"
-        },
-        girder_text(&f.ship).trim_end()
+        if girder.is_empty() { "" } else { "\n" },
+        girder.trim_end()
     )
 }
 
