@@ -27,16 +27,12 @@ use std::io::Write;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// 8-point Gauss-Legendre nodes and weights on [-1, 1].
-const GAUSS: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
-    (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
-];
+const GAUSS: [(f64, f64); 8] = crate::numerics::GAUSS_LEGENDRE_8;
+
+/// Most section solves (distinct sections x frequencies) of one ship sweep: every solve is
+/// kept until the strip integration (a few kB each at 9 section DOFs, so about 1 GB at the
+/// limit) and costs a few ms (about 10 minutes on 2 cores at the limit).
+pub const MAX_SECTION_SOLVES: usize = 250_000;
 
 /// Most wave headings of one ship sweep.
 pub const MAX_HEADINGS: usize = crate::waves::MAX_HEADINGS;
@@ -321,8 +317,9 @@ fn integrate_complex(
 ///
 /// # Errors
 /// Parameters out of range (checked before any allocation, with the section sweep's bounds
-/// for every section), a section whose meshes or frequency limits fail, a non-finite restoring,
-/// or a sweep in which every frequency failed. Failures at single frequencies are not errors.
+/// for every section, [`MAX_SECTION_SOLVES`] and the section sweep's table limit), a section
+/// whose meshes or frequency limits fail, a non-finite restoring, or a sweep in which every
+/// frequency failed. Failures at single frequencies are not errors.
 pub fn run(
     ship: &Ship,
     params: &ShipSweepParams,
@@ -348,6 +345,24 @@ pub fn run(
     if let Some(w) = params.omega.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
         return Err(bad(format!(
             "frequency {w} rad/s must be positive and finite"
+        )));
+    }
+    let solves = ship.sections().len().saturating_mul(params.omega.len());
+    if solves > MAX_SECTION_SOLVES {
+        return Err(bad(format!(
+            "{} distinct sections x {} frequencies = {solves} section solves; at most \
+             {MAX_SECTION_SOLVES} (each is kept until the strip integration)",
+            ship.sections().len(),
+            params.omega.len()
+        )));
+    }
+    let n = ship.dofs().len();
+    let entries = params.omega.len().saturating_mul(n * n);
+    if entries > crate::sweep::MAX_TABLE_ENTRIES {
+        return Err(bad(format!(
+            "{} frequencies x {n}^2 DOF pairs = {entries} table entries; at most {}",
+            params.omega.len(),
+            crate::sweep::MAX_TABLE_ENTRIES
         )));
     }
     let elastic = elastic_names(ship);
@@ -462,7 +477,6 @@ pub fn run(
             .collect()
     });
 
-    let n = ship.dofs().len();
     let shares = shares(ship, &elastic);
     let (rho, g) = (params.rho, params.g);
     let added_mass_inf = integrate_real(&shares, n, |k| limits[k].added_mass.map(|z| z.re)) * rho;

@@ -490,3 +490,31 @@ fn an_offset_file_alone_is_a_ship_of_rigid_dofs() {
     assert_eq!(e.line(), Some(3));
     assert!(e.to_string().starts_with("box.out:3: the file ends"), "{e}");
 }
+
+/// Sizes the parameters decide are refused before anything is allocated.
+#[test]
+fn a_sweep_too_large_is_refused_before_it_starts() {
+    let ship = prismatic(&[-1.0, 1.0], "<semicircle radius=\"1\"/>", "");
+    let many = ShipSweepParams {
+        omega: vec![1.0; super::strip::MAX_SECTION_SOLVES + 1],
+        ..params(&ship, &[1.0], &[0.0])
+    };
+    let e = run(&ship, &many, &|_, _| {}).unwrap_err().to_string();
+    assert!(e.contains("section solves; at most 250000"), "{e}");
+    for (headings, words) in [(vec![], "0 headings"), (vec![f64::NAN], "not finite")] {
+        let p = ShipSweepParams {
+            headings,
+            ..params(&ship, &[1.0], &[0.0])
+        };
+        let e = run(&ship, &p, &|_, _| {}).unwrap_err().to_string();
+        assert!(e.contains(words), "{e}");
+    }
+    let p = ShipSweepParams {
+        omega: vec![-1.0],
+        ..params(&ship, &[1.0], &[0.0])
+    };
+    assert!(run(&ship, &p, &|_, _| {})
+        .unwrap_err()
+        .to_string()
+        .contains("-1 rad/s"));
+}
