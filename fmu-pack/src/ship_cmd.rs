@@ -55,7 +55,10 @@ fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
         params.panels.body_panels = panels;
         params.panels_with_corners.body_panels = panels;
     }
-    params.extrapolation_levels = args.levels;
+    if let Some(levels) = args.levels {
+        params.extrapolation_levels = levels;
+        params.levels_with_corners = levels;
+    }
     params.threads = args.threads;
     if args.plain {
         params.irregular_frequencies = IrregularFrequencies::Keep;

@@ -45,9 +45,9 @@ pub struct HullSweepArgs {
     #[arg(long)]
     pub plain: bool,
     /// Discretization levels (N, N/2, N/4, ...) extrapolated to zero panel size; 1 gives the
-    /// plain N-panel result.
-    #[arg(long, default_value_t = SweepParams::default().extrapolation_levels)]
-    pub levels: usize,
+    /// plain N-panel result. Default 3 (a ship's sections with corners: 1, docs/SHIPS.md).
+    #[arg(long)]
+    pub levels: Option<usize>,
     /// Worker threads (at most 1024).
     #[arg(long, default_value_t = default_threads())]
     pub threads: usize,
@@ -87,7 +87,9 @@ impl HullSweepArgs {
             } else {
                 IrregularFrequencies::RemoveWithLid
             },
-            extrapolation_levels: self.levels,
+            extrapolation_levels: self
+                .levels
+                .unwrap_or(SweepParams::default().extrapolation_levels),
             threads: self.threads,
             excitation: true,
         };

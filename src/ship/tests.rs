@@ -33,6 +33,7 @@ fn params(ship: &Ship, omega: &[f64], headings: &[f64]) -> ShipSweepParams {
             ..crate::PanelParams::default()
         },
         extrapolation_levels: 2,
+        levels_with_corners: 2,
         ..ShipSweepParams::for_ship(ship)
     }
 }
