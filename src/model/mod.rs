@@ -705,8 +705,11 @@ impl Model {
             .validate()
             .map_err(|e| ModelError::Variable(e.to_string()))?;
         // A heading the excitation table lacks is refused when it is set (a section's table
-        // has 0 and 180, a ship's the headings it was swept for).
-        if let Some(table) = &self.excitation {
+        // has 0 and 180, a ship's the headings it was swept for). Only a new heading: the
+        // declared start value 0 may be missing from a ship's table, and setting another wave
+        // parameter first must not fail on it (the sea checks the heading it is built with).
+        let heading_set = waves.heading.to_bits() != self.state.waves.heading.to_bits();
+        if let Some(table) = self.excitation.as_ref().filter(|_| heading_set) {
             if table.heading_index(waves.heading).is_none() {
                 return Err(ModelError::Variable(format!(
                     "wave.heading = {} deg: the excitation table has no such heading (it has \

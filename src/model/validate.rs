@@ -74,7 +74,10 @@ impl Model {
             .waves
             .validate()
             .map_err(|e| ModelError::State(format!("wave parameters: {e}")))?;
-        if let Some(table) = &self.excitation {
+        // A sea is built with a heading of the table; calm water keeps any heading (the
+        // declared start value 0 may be missing from a ship's table).
+        let sea = state.waves.kind != crate::waves::WaveKind::Calm;
+        if let Some(table) = self.excitation.as_ref().filter(|_| sea) {
             if table.heading_index(state.waves.heading).is_none() {
                 return refuse(format!(
                     "wave heading {} deg is not one of the excitation table's {:?}",

@@ -150,3 +150,30 @@ def test_a_heading_the_ship_was_not_swept_for_is_refused_when_set(ship_fmu, capf
     out = capfd.readouterr().out
     fmu.freeInstance()
     assert "wave.heading = 30 deg" in out and "0, 45, 90, 135, 180" in out.replace(".0", ""), out
+
+
+def test_a_ship_swept_without_heading_0_takes_its_wave_parameters_in_any_order(fmu_pack_binary, tmp_path):
+    """The declared start value of wave.heading is 0; a ship swept for 180 and 90 only must
+    still accept wave.kind before wave.heading, and its calm-water state must round-trip."""
+    path = tmp_path / "HeadSeas.fmu"
+    subprocess.run([str(fmu_pack_binary), "pack", str(SHIP), "--headings", "180,90", "--omega",
+                    "0.3:3:40", "-o", str(path)], check=True, capture_output=True)
+    md, vr, fmu = open_fmu(path, "order")
+    state = fmu.getFMUstate()
+    fmu.setFMUstate(state)  # calm water, heading 0: a valid state
+    fmu.freeFMUstate(state)
+    fmu.setInteger([vr["wave.kind"]], [1])
+    fmu.setReal([vr["wave.height"], vr["wave.period"]], [1.0, 6.0])
+    fmu.setReal([vr["wave.heading"]], [180.0])
+    fmu.exitInitializationMode()
+    fmu.doStep(0.0, 0.1)
+    (force,) = fmu.getReal([vr["force_excitation.heave"]])
+    assert math.isfinite(force) and force != 0.0
+    fmu.terminate()
+    fmu.freeInstance()
+    # Building the sea with a heading the table lacks fails at the end of initialization.
+    md, vr, fmu = open_fmu(path, "missing")
+    fmu.setInteger([vr["wave.kind"]], [1])
+    with pytest.raises(Exception):
+        fmu.exitInitializationMode()
+    fmu.freeInstance()
