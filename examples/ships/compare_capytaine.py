@@ -106,7 +106,9 @@ def strip(fmu_pack, omega, headings, panels=None):
                    "--omega", f"{omega[0]!r}:{omega[1]!r}:{omega[2]}",
                    "--headings", ",".join(f"{h:g}" for h in headings)]
         if panels:
-            command += ["--panels", str(panels)]
+            # The sections' discretization of docs/SHIPS.md's comparison: 3 levels (the
+            # default for sections with corners is 2).
+            command += ["--panels", str(panels), "--levels", "3"]
         start = time.perf_counter()
         subprocess.run(command, check=True, capture_output=True, text=True)
         seconds = time.perf_counter() - start

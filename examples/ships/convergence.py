@@ -31,7 +31,7 @@ def sweep(ship, panels, levels):
 
 def main():
     cases = [
-        ("box_barge.xml", (512, 3), [(64, 1), (128, 1), (256, 1), (64, 3), (128, 3), (256, 3)]),
+        ("box_barge.xml", (512, 3), [(64, 1), (128, 1), (128, 2), (256, 1), (64, 3), (128, 3), (256, 3)]),
         ("wigley.xml", (256, 3), [(32, 3), (64, 3), (64, 2), (128, 3)]),
     ]
     print("| ship | panels, levels | largest diagonal error | time |")

@@ -45,7 +45,7 @@ pub struct HullSweepArgs {
     #[arg(long)]
     pub plain: bool,
     /// Discretization levels (N, N/2, N/4, ...) extrapolated to zero panel size; 1 gives the
-    /// plain N-panel result. Default 3 (a ship's sections with corners: 1, docs/SHIPS.md).
+    /// plain N-panel result. Default 3 (a ship's sections with corners: 2, docs/SHIPS.md).
     #[arg(long)]
     pub levels: Option<usize>,
     /// Worker threads (at most 1024).

@@ -54,11 +54,12 @@ pub struct ShipSweepParams {
     pub panels_with_corners: PanelParams,
     /// Discretization levels extrapolated for the smooth sections (see [`Solver`]). Default 3.
     pub extrapolation_levels: usize,
-    /// Levels for the sections with corners. Default 1, the plain method: the extrapolation
-    /// assumes an error smooth in the panel size, which corners break. On the 10 m x 5 m box
-    /// (41 stations, heave, pitch, bending; 8 frequencies 0.3 .. 1.7 rad/s) the largest
-    /// diagonal error against 512 panels and 3 levels is 0.055 % with 128 panels and 1 level,
-    /// 0.77 % with 128 and 3 levels, 3.5 % with 64 and 3 (docs/SHIPS.md).
+    /// Levels for the sections with corners. Default 2: the extrapolation assumes an error
+    /// smooth in the panel size, which corners disturb, most on the coarsest level. Largest
+    /// diagonal error at 128 panels with 1, 2, 3 levels (docs/SHIPS.md): the box barge's
+    /// heave, pitch and bending 0.055 %, 0.091 %, 0.77 % (against 512 panels, 3 levels); the
+    /// sections of `examples/hulls/barge.xml` 1.0 %, 0.32 %, 0.52 % and `midship.xml` 0.67 %,
+    /// 0.49 %, 0.55 % (against 1024 panels, 3 levels).
     pub levels_with_corners: usize,
     /// Irregular frequencies. Default: removed with an interior lid.
     pub irregular_frequencies: IrregularFrequencies,
@@ -112,7 +113,7 @@ impl ShipSweepParams {
             },
             panels_with_corners: PanelParams::default(),
             extrapolation_levels: 3,
-            levels_with_corners: 1,
+            levels_with_corners: 2,
             irregular_frequencies: IrregularFrequencies::RemoveWithLid,
             threads: 2,
             rho: 1025.0,
