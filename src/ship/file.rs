@@ -1,4 +1,4 @@
-//! Ship files (`docs/SHIP_FORMAT.md`), read with [`crate::xml`]. Every error names the file,
+//! Ship files (`docs/SHIPS.md`), read with [`crate::xml`]. Every error names the file,
 //! the line, the station and the field.
 
 use super::girder::{modes, GirderKind, GirderMode};

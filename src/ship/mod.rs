@@ -11,7 +11,8 @@
 //! ```text
 //! sway:  v = 1          heave: w = 1          roll: theta = 1
 //! pitch: w = -x         yaw:   v = x          (bow down and bow to port positive)
-//! elastic (hull-girder) modes: v(x), w(x), theta(x) given per station (ship file)
+//! elastic (hull-girder) modes: v(x), w(x), theta(x) given per station (ship file), or
+//!                              computed from the stations' structure (`girder.rs`)
 //! ```
 //!
 //! Surge is left out: a slender section has no sectional force along x.
@@ -34,7 +35,9 @@
 //! (a pointed end) contributes nothing.
 //!
 //! # Where things are
-//! * `file.rs`: ship files (`docs/SHIP_FORMAT.md`);
+//! * `file.rs`: ship files (`docs/SHIPS.md`);
+//! * `pdstrip.rs`: PDStrip offset files (the stations of a ship file's `<offsets>`);
+//! * `girder.rs`: free-free hull-girder modes from mass and stiffness distributions;
 //! * `strip.rs`: the sweep of every distinct section and the strip integration.
 
 mod file;
