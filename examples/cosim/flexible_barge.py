@@ -622,20 +622,6 @@ def report(result: dict) -> str:
     return "\n".join(lines)
 
 
-def _jsonable(value):
-    if isinstance(value, dict):
-        return {k: _jsonable(v) for k, v in value.items() if k != "series"}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, complex):
-        return [value.real, value.imag]
-    if isinstance(value, np.generic):
-        return _jsonable(value.item())
-    return value
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="3 wave frequencies, 16 s decays, no figure")
@@ -645,7 +631,7 @@ def main(argv=None) -> int:
     result = run(args.quick, args.fmu)
     print(report(result))
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(_jsonable(result), indent=1))
+        pathlib.Path(args.json).write_text(json.dumps(hc.jsonable(result, skip=("series",)), indent=1))
     return 0
 
 

@@ -603,3 +603,19 @@ def save_svg(fig, name: str) -> pathlib.Path:
     path = FIGURES / name
     fig.savefig(path, format="svg", metadata={"Date": None}, bbox_inches="tight")
     return path
+
+
+def jsonable(value, skip=()):
+    """``value`` with numpy arrays, numpy scalars and complex numbers (as ``[re, im]``) turned
+    into JSON types, leaving out dict entries whose key is in ``skip``."""
+    if isinstance(value, dict):
+        return {k: jsonable(v, skip) for k, v in value.items() if k not in skip}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v, skip) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist(), skip)
+    if isinstance(value, complex):
+        return [value.real, value.imag]
+    if isinstance(value, np.generic):
+        return jsonable(value.item(), skip)
+    return value

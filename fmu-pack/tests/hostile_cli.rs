@@ -147,43 +147,37 @@ fn printing_commands(fmu: &Path, binary: &Path, dir: &Path) -> Vec<Vec<String>> 
     ]
 }
 
-#[test]
-fn a_closed_standard_output_is_an_error_not_a_panic() {
-    let dir = scratch("closed-pipe");
+/// Every printing command with standard output on `device` exits 1 with `message`, no panic.
+fn printing_commands_fail_on(tag: &str, device: fn() -> Stdio, message: &str) -> PathBuf {
+    let dir = scratch(tag);
     let (fmu, binary) = packed_archive(&dir);
     for args in printing_commands(&fmu, &binary, &dir) {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let r = run_with(&args, Some(closed_pipe()), None, Duration::from_secs(120));
+        let r = run_with(&args, Some(device()), None, Duration::from_secs(120));
         r.assert_clean_exit(1, args[0]);
-        assert!(
-            r.stderr
-                .contains("fmu-pack: error: cannot write to standard output: Broken pipe"),
-            "{}: {}",
-            args[0],
-            r.stderr
-        );
+        assert!(r.stderr.contains(message), "{}: {}", args[0], r.stderr);
     }
+    dir
+}
+
+#[test]
+fn a_closed_standard_output_is_an_error_not_a_panic() {
+    let dir = printing_commands_fail_on(
+        "closed-pipe",
+        closed_pipe,
+        "fmu-pack: error: cannot write to standard output: Broken pipe",
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_standard_output_is_an_error_not_a_panic() {
-    let dir = scratch("full-stdout");
-    let (fmu, binary) = packed_archive(&dir);
-    for args in printing_commands(&fmu, &binary, &dir) {
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let r = run_with(&args, Some(full_device()), None, Duration::from_secs(120));
-        r.assert_clean_exit(1, args[0]);
-        assert!(
-            r.stderr.contains(
-                "fmu-pack: error: cannot write to standard output: No space left on device"
-            ),
-            "{}: {}",
-            args[0],
-            r.stderr
-        );
-    }
+    let dir = printing_commands_fail_on(
+        "full-stdout",
+        full_device,
+        "fmu-pack: error: cannot write to standard output: No space left on device",
+    );
     // --help is the product of its own command.
     let r = run_with(
         &["--help"],
