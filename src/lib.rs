@@ -38,6 +38,7 @@
 #![warn(missing_docs)]
 
 pub mod bem;
+pub mod database;
 pub mod discretize;
 pub mod fmi2;
 pub mod fmu;

@@ -11,7 +11,8 @@ use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::fmu::Extent;
 use hydrofmu::identify::{self, FitParams, FitReport};
 use hydrofmu::scene::Band;
-use hydrofmu::ship::{self, Ship, ShipSweep, ShipSweepParams};
+use hydrofmu::database::Database;
+use hydrofmu::ship::{self, Ship, ShipSweepParams};
 use hydrofmu::xml::{format_number, Notation};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -75,7 +76,7 @@ fn sweep(
     ship: &Ship,
     params: &ShipSweepParams,
     args: &HullSweepArgs,
-) -> Result<(ShipSweep, Duration), String> {
+) -> Result<(Database, Duration), String> {
     let names: Option<Vec<&str>> = args
         .dofs
         .as_deref()
@@ -162,7 +163,7 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     output::stderr_line(&format!(
         "{}: {} stations, {} distinct sections ({} body panels each at most), {} DOFs, {} \
          frequencies ({} failed), {} headings, {:.3} s wall",
-        result.ship_name,
+        result.name,
         ship.stations().len(),
         ship.sections().len(),
         result.body_panels.iter().max().copied().unwrap_or(0),
@@ -181,7 +182,7 @@ pub struct ShipFit {
     /// The ship.
     pub ship: Ship,
     /// Its sweep (SI, at the reference rho and g).
-    pub sweep: ShipSweep,
+    pub sweep: Database,
     /// The band fitted, rad/s.
     pub band: (f64, f64),
     /// The fit.

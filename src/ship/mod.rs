@@ -45,7 +45,7 @@ pub mod girder;
 mod pdstrip;
 pub mod strip;
 
-pub use strip::{ShipSweep, ShipSweepParams};
+pub use strip::ShipSweepParams;
 
 use crate::hull::Hull;
 use std::fmt;

@@ -18,12 +18,11 @@ use crate::hull::Hull;
 use crate::hydrostatics::{self, HydrostaticsError};
 use crate::panels::PanelParams;
 use crate::sweep::{log_grid, Solver, SweepError, SweepParams};
-use crate::xml::{format_number, Notation};
+use crate::database::Database;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::fmt;
-use std::io::Write;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// 8-point Gauss-Legendre nodes and weights on [-1, 1].
@@ -165,48 +164,6 @@ impl fmt::Display for ShipSweepError {
 
 impl std::error::Error for ShipSweepError {}
 
-/// Whole-ship coefficients in SI (DESIGN.md, "Ships").
-#[derive(Clone, Debug)]
-pub struct ShipSweep {
-    /// Ship name.
-    pub ship_name: String,
-    /// DOF names.
-    pub dof_names: Vec<String>,
-    /// Water density used, kg/m^3.
-    pub rho: f64,
-    /// Gravity used, m/s^2.
-    pub g: f64,
-    /// The frequencies computed, rad/s, ascending.
-    pub omega: Vec<f64>,
-    /// `A~_rs(omega)` in SI (kg, kg m, kg m^2), `Im = -b/omega`.
-    pub added_mass: Vec<DMatrix<Complex64>>,
-    /// `A_inf` in SI.
-    pub added_mass_inf: DMatrix<f64>,
-    /// Headings of the excitation columns, degrees.
-    pub headings: Vec<f64>,
-    /// Exciting force per unit wave amplitude (N/m, N m/m), one column per heading: the
-    /// zero-speed Salvesen-Tuck-Faltinsen force.
-    pub excitation: Vec<DMatrix<Complex64>>,
-    /// The Froude-Krylov part of the same.
-    pub froude_krylov: Vec<DMatrix<Complex64>>,
-    /// The long-wave limit of the exciting force per unit amplitude (`omega -> 0`, every
-    /// heading): `rho g integral T^T (integral_C n ds) dx`, the hydrostatic pressure of the
-    /// wave's crest.
-    pub excitation_long_wave: Vec<f64>,
-    /// Hydrostatic restoring (N/m, N, N m), buoyancy part (DESIGN.md).
-    pub stiffness_hydrostatic: DMatrix<f64>,
-    /// Each DOF's length exponent `e_j` (0: a length; 1: an angle or mode amplitude).
-    pub length_exponents: Vec<u8>,
-    /// Reference length R of the excitation table's `kR` (the largest section half-beam), m.
-    pub reference_length: f64,
-    /// Frequencies that failed, with the reason.
-    pub failures: Vec<(f64, String)>,
-    /// Physics sanity warnings.
-    pub warnings: Vec<String>,
-    /// Body panels of each distinct section (finest level).
-    pub body_panels: Vec<usize>,
-}
-
 /// One Gauss point's share of one station's section: `weight * T^T Q T` with `T` the
 /// section coordinates of every ship DOF.
 struct Share {
@@ -339,7 +296,7 @@ pub fn run(
     ship: &Ship,
     params: &ShipSweepParams,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<ShipSweep, ShipSweepError> {
+) -> Result<Database, ShipSweepError> {
     let bad = |m: String| ShipSweepError::Parameters(m);
     for (what, value) in [("rho", params.rho), ("g", params.g)] {
         if !(value.is_finite() && value > 0.0) {
@@ -506,13 +463,16 @@ pub fn run(
     }
     let stiffness_hydrostatic = stiffness * (rho * g);
     let flux: Vec<Vec<f64>> = solvers.iter().map(Solver::long_wave_excitation).collect();
-    let excitation_long_wave = integrate_vector(&shares, n, |k| flux[k].clone())
-        .iter()
-        .map(|x| x * rho * g)
-        .collect();
+    let excitation_long_wave = Some(
+        integrate_vector(&shares, n, |k| flux[k].clone())
+            .iter()
+            .map(|x| x * rho * g)
+            .collect(),
+    );
 
-    let mut result = ShipSweep {
-        ship_name: ship.name().to_string(),
+    let mut result = Database {
+        name: ship.name().to_string(),
+        source: "strip theory (zero-speed Salvesen-Tuck-Faltinsen)".to_string(),
         dof_names: ship.dof_names().iter().map(|s| s.to_string()).collect(),
         rho,
         g,
@@ -524,13 +484,14 @@ pub fn run(
         froude_krylov: Vec::new(),
         excitation_long_wave,
         stiffness_hydrostatic,
-        length_exponents: ship.dof_units().iter().map(|u| u.length_exponent).collect(),
+        dof_units: ship.dof_units(),
         reference_length: sections
             .iter()
             .map(Hull::reference_half_beam)
             .fold(0.0, f64::max),
         failures: Vec::new(),
         warnings: Vec::new(),
+        notes: Vec::new(),
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
     };
     let count = params.omega.len();
@@ -620,199 +581,3 @@ fn buoyancy_moment(shares: &[Share], restoring: &[hydrostatics::Hydrostatics]) -
         .sum()
 }
 
-fn readable(x: f64) -> String {
-    format_number(x, Notation::Plain)
-}
-
-impl ShipSweep {
-    /// The added mass in SI as the identification takes it.
-    pub fn response(&self) -> crate::FrequencyResponse {
-        crate::FrequencyResponse {
-            dof_names: self.dof_names.clone(),
-            omega: self.omega.clone(),
-            added_mass: self.added_mass.clone(),
-            added_mass_inf: self.added_mass_inf.clone(),
-            rho: self.rho,
-            g: self.g,
-        }
-    }
-
-    /// The same sweep restricted to the DOFs `names`, in that order; `None` if a name is not
-    /// in the sweep.
-    pub fn select_dofs(&self, names: &[&str]) -> Option<ShipSweep> {
-        let index: Vec<usize> = names
-            .iter()
-            .map(|name| self.dof_names.iter().position(|d| d == name))
-            .collect::<Option<_>>()?;
-        let n = index.len();
-        let square_c =
-            |m: &DMatrix<Complex64>| DMatrix::from_fn(n, n, |i, j| m[(index[i], index[j])]);
-        let rows = |m: &DMatrix<Complex64>| DMatrix::from_fn(n, m.ncols(), |i, h| m[(index[i], h)]);
-        Some(ShipSweep {
-            dof_names: index.iter().map(|&i| self.dof_names[i].clone()).collect(),
-            added_mass: self.added_mass.iter().map(square_c).collect(),
-            added_mass_inf: DMatrix::from_fn(n, n, |i, j| {
-                self.added_mass_inf[(index[i], index[j])]
-            }),
-            excitation: self.excitation.iter().map(rows).collect(),
-            froude_krylov: self.froude_krylov.iter().map(rows).collect(),
-            excitation_long_wave: index
-                .iter()
-                .map(|&i| self.excitation_long_wave[i])
-                .collect(),
-            stiffness_hydrostatic: DMatrix::from_fn(n, n, |i, j| {
-                self.stiffness_hydrostatic[(index[i], index[j])]
-            }),
-            length_exponents: index.iter().map(|&i| self.length_exponents[i]).collect(),
-            ..self.clone()
-        })
-    }
-
-    /// The exciting force as the FMU's excitation table (`crate::waves::ExcitationTable`):
-    /// `kR,j,heading,re,im` with `kR = omega^2 R / g` and `X_j / (rho g a R^(1 + e_j))`,
-    /// R = [`ShipSweep::reference_length`]; the long-wave rows first.
-    ///
-    /// # Errors
-    /// The writer's.
-    pub fn write_excitation_table(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        let r = self.reference_length;
-        writeln!(out, "# hull: {}", self.ship_name)?;
-        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
-        writeln!(out, "# convention: exp(+i omega t)")?;
-        writeln!(out, "# R: {r} m")?;
-        let exponents: Vec<String> = self.length_exponents.iter().map(u8::to_string).collect();
-        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
-        writeln!(
-            out,
-            "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude; whole ship, strip \
-             theory (zero-speed Salvesen-Tuck-Faltinsen)"
-        )?;
-        writeln!(out, "kR,j,heading,re,im")?;
-        let scale: Vec<f64> = self
-            .length_exponents
-            .iter()
-            .map(|&e| self.rho * self.g * r.powi(1 + i32::from(e)))
-            .collect();
-        for heading in &self.headings {
-            for (j, value) in self.excitation_long_wave.iter().enumerate() {
-                writeln!(out, "0,{},{heading},{:e},0", j + 1, value / scale[j] + 0.0)?;
-            }
-        }
-        for (omega, forces) in self.omega.iter().zip(&self.excitation) {
-            let kr = crate::units::kr_from_omega(*omega, r, self.g);
-            for (h, heading) in self.headings.iter().enumerate() {
-                for j in 0..forces.nrows() {
-                    let z = forces[(j, h)] / scale[j];
-                    writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        writeln!(out, "# hull: {}", self.ship_name)?;
-        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
-        writeln!(out, "# convention: exp(+i omega t)")?;
-        writeln!(out, "# units: SI")?;
-        writeln!(out, "# rho: {} kg/m^3", readable(self.rho))?;
-        writeln!(out, "# g: {} m/s^2", readable(self.g))
-    }
-
-    /// The added-mass table of DESIGN.md ("Ships"): `omega,i,j,re,im`, `omega = inf` rows
-    /// for `A_inf`, then one block per frequency.
-    ///
-    /// # Errors
-    /// The writer's.
-    pub fn write_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        self.header(out)?;
-        writeln!(out, "omega,i,j,re,im")?;
-        let n = self.dof_names.len();
-        let number = |x: f64| format_number(x, Notation::Scientific);
-        for i in 0..n {
-            for j in 0..n {
-                writeln!(
-                    out,
-                    "inf,{},{},{},0",
-                    i + 1,
-                    j + 1,
-                    number(self.added_mass_inf[(i, j)])
-                )?;
-            }
-        }
-        for (omega, a) in self.omega.iter().zip(&self.added_mass) {
-            for i in 0..n {
-                for j in 0..n {
-                    let z = a[(i, j)];
-                    writeln!(
-                        out,
-                        "{},{},{},{},{}",
-                        number(*omega),
-                        i + 1,
-                        j + 1,
-                        number(z.re),
-                        number(z.im)
-                    )?;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// The excitation table: `omega,j,heading,re,im`, `X_j` per unit wave amplitude in SI.
-    ///
-    /// # Errors
-    /// The writer's.
-    pub fn write_excitation_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        self.header(out)?;
-        writeln!(out, "omega,j,heading,re,im")?;
-        let number = |x: f64| format_number(x, Notation::Scientific);
-        for (omega, x) in self.omega.iter().zip(&self.excitation) {
-            for j in 0..self.dof_names.len() {
-                for (h, heading) in self.headings.iter().enumerate() {
-                    let z = x[(j, h)];
-                    writeln!(
-                        out,
-                        "{},{},{},{},{}",
-                        number(*omega),
-                        j + 1,
-                        number(*heading),
-                        number(z.re),
-                        number(z.im)
-                    )?;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// The restoring as the FMU's table ([`crate::hydrostatics::Table`]): `C / (rho g)`.
-    pub fn hydrostatics_table(&self) -> crate::hydrostatics::Table {
-        crate::hydrostatics::Table {
-            modes: self.dof_names.clone(),
-            stiffness_per_rho_g: &self.stiffness_hydrostatic / (self.rho * self.g),
-        }
-    }
-
-    /// The hydrostatic restoring as CSV: `i,j,c`.
-    ///
-    /// # Errors
-    /// The writer's.
-    pub fn write_hydrostatics_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        self.header(out)?;
-        writeln!(out, "i,j,c")?;
-        let n = self.dof_names.len();
-        for i in 0..n {
-            for j in 0..n {
-                writeln!(
-                    out,
-                    "{},{},{}",
-                    i + 1,
-                    j + 1,
-                    format_number(self.stiffness_hydrostatic[(i, j)], Notation::Scientific)
-                )?;
-            }
-        }
-        Ok(())
-    }
-}

@@ -1,0 +1,269 @@
+//! From files on disk to a [`Database`] ready to fit: the companions found beside the named
+//! file, reciprocity (symmetrized, the asymmetry reported), irregular-frequency spikes
+//! removed ([`super::irregular`]), `A_inf` estimated when the files give none
+//! ([`super::added_mass_inf`]), and sanity checks of units.
+
+use super::added_mass_inf;
+use super::irregular::{self, SpikeParams};
+use super::wamit::{self, Source, WamitParams, WamitTexts};
+use super::{Database, DatabaseError};
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+use std::path::{Path, PathBuf};
+
+/// How to import, with documented defaults.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImportParams {
+    /// How to read WAMIT files.
+    pub wamit: WamitParams,
+    /// The spike search; `None` keeps every frequency.
+    pub spikes: Option<SpikeParams>,
+}
+
+impl ImportParams {
+    /// Defaults with the spike search on.
+    pub fn new() -> ImportParams {
+        ImportParams {
+            wamit: WamitParams::default(),
+            spikes: Some(SpikeParams::default()),
+        }
+    }
+}
+
+/// Whether `path` names a database file this module reads (by its extension: `.1`).
+pub fn is_database_path(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "1")
+}
+
+/// Reads a file of at most `limit` bytes, refusing larger ones before reading.
+fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
+    let name = path.display().to_string();
+    let meta = std::fs::metadata(path).map_err(|e| DatabaseError::file(&name, e.to_string()))?;
+    if !meta.is_file() {
+        return Err(DatabaseError::file(&name, "not a file".to_string()));
+    }
+    if meta.len() > limit {
+        return Err(DatabaseError::file(
+            &name,
+            format!("{} bytes, more than the {limit} accepted", meta.len()),
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| DatabaseError::file(&name, e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| {
+        DatabaseError::file(
+            &name,
+            format!("not text (invalid UTF-8 at byte {})", e.utf8_error().valid_up_to()),
+        )
+    })
+}
+
+/// The companion `stem.ext` of `path` when it exists (also in upper case).
+fn companion(path: &Path, ext: &str) -> Option<PathBuf> {
+    [ext.to_string(), ext.to_uppercase()]
+        .iter()
+        .map(|e| path.with_extension(e))
+        .find(|p| p.is_file())
+}
+
+/// Imports the WAMIT file set of `path` (`NAME.1`, with `NAME.3` and `NAME.hst` beside it
+/// when present).
+///
+/// # Errors
+/// Missing or malformed files ([`wamit::read`]), or data left unusable after the checks.
+pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseError> {
+    let radiation_text = read_bounded(path, wamit::MAX_FILE_BYTES)?;
+    let excitation_path = companion(path, "3");
+    let hydrostatics_path = companion(path, "hst");
+    let excitation_text = excitation_path
+        .as_deref()
+        .map(|p| read_bounded(p, wamit::MAX_FILE_BYTES))
+        .transpose()?;
+    let hydrostatics_text = hydrostatics_path
+        .as_deref()
+        .map(|p| read_bounded(p, wamit::MAX_FILE_BYTES))
+        .transpose()?;
+    let names = [
+        path.display().to_string(),
+        excitation_path.map(|p| p.display().to_string()).unwrap_or_default(),
+        hydrostatics_path.map(|p| p.display().to_string()).unwrap_or_default(),
+    ];
+    let texts = WamitTexts {
+        radiation: Source {
+            name: &names[0],
+            text: &radiation_text,
+        },
+        excitation: excitation_text.as_deref().map(|text| Source {
+            name: &names[1],
+            text,
+        }),
+        hydrostatics: hydrostatics_text.as_deref().map(|text| Source {
+            name: &names[2],
+            text,
+        }),
+    };
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "body".to_string());
+    let imported = wamit::read(&stem, texts, &params.wamit)?;
+    let mut database = imported.database;
+    if !imported.has_excitation {
+        database.warnings.push(format!(
+            "no {} beside {}: no exciting force (the FMU's wave.kind must stay 0)",
+            path.with_extension("3").display(),
+            names[0]
+        ));
+    }
+    if !imported.has_hydrostatics {
+        database.warnings.push(format!(
+            "no {} beside {}: the hydrostatic restoring is zero",
+            path.with_extension("hst").display(),
+            names[0]
+        ));
+    }
+    finish(&mut database, imported.added_mass_inf_given, params)?;
+    Ok(database)
+}
+
+/// The checks every imported database goes through (any format): reciprocity, spikes,
+/// `A_inf`, units.
+///
+/// # Errors
+/// When the spikes leave fewer than 3 frequencies or `A_inf` cannot be estimated.
+pub fn finish(
+    database: &mut Database,
+    added_mass_inf_given: bool,
+    params: &ImportParams,
+) -> Result<(), DatabaseError> {
+    let file = database.source.clone();
+    symmetrize(database);
+    if let Some(spike_params) = &params.spikes {
+        let spikes = irregular::find(
+            &database.omega,
+            &database.added_mass,
+            &database.dof_names,
+            spike_params,
+        );
+        let mut drop = vec![false; database.omega.len()];
+        for spike in &spikes {
+            drop[spike.index] = true;
+            database.failures.push((
+                database.omega[spike.index],
+                format!("irregular-frequency spike, kept out: {}", spike.reason),
+            ));
+        }
+        database
+            .failures
+            .sort_by(|a, b| a.0.total_cmp(&b.0));
+        let keep = |v: &mut Vec<DMatrix<Complex64>>| {
+            if v.len() == drop.len() {
+                let mut k = 0;
+                v.retain(|_| {
+                    k += 1;
+                    !drop[k - 1]
+                });
+            }
+        };
+        keep(&mut database.added_mass);
+        keep(&mut database.excitation);
+        keep(&mut database.froude_krylov);
+        let mut k = 0;
+        database.omega.retain(|_| {
+            k += 1;
+            !drop[k - 1]
+        });
+    }
+    if database.omega.len() < 3 {
+        return Err(DatabaseError::file(
+            &file,
+            format!(
+                "{} usable frequencies; at least 3 are needed",
+                database.omega.len()
+            ),
+        ));
+    }
+    if !added_mass_inf_given {
+        let estimate = added_mass_inf::estimate(&database.omega, &database.added_mass)
+            .ok_or_else(|| DatabaseError::file(&file, "A_inf cannot be estimated".to_string()))?;
+        let n = database.dof_names.len();
+        let worst = (0..n)
+            .map(|i| {
+                let scale = estimate.added_mass_inf[(i, i)].abs().max(f64::MIN_POSITIVE);
+                (estimate.spread[(i, i)] / scale, i)
+            })
+            .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+        database.notes.push(format!(
+            "A_inf estimated (no omega = inf rows) by the Kramers-Kronig relation from the \
+             damping, the median over {} frequencies; the per-frequency estimates spread by up to \
+             {:.2} % of A_inf ({})",
+            estimate.frequencies_used,
+            100.0 * worst.0,
+            database.dof_names[worst.1]
+        ));
+        database.added_mass_inf = estimate.added_mass_inf;
+    }
+    check_units(database);
+    Ok(())
+}
+
+/// `A~` and `A_inf` made symmetric (reciprocity), the largest asymmetry noted.
+fn symmetrize(database: &mut Database) {
+    let n = database.dof_names.len();
+    let mut worst: (f64, usize, usize, f64) = (0.0, 0, 0, 0.0);
+    for (a, omega) in database.added_mass.iter_mut().zip(&database.omega) {
+        for i in 0..n {
+            for j in i + 1..n {
+                let scale = (a[(i, i)].norm() * a[(j, j)].norm()).sqrt();
+                let gap = (a[(i, j)] - a[(j, i)]).norm() / 2.0;
+                if scale > 0.0 && gap / scale > worst.0 {
+                    worst = (gap / scale, i, j, *omega);
+                }
+                let mean = (a[(i, j)] + a[(j, i)]) / 2.0;
+                a[(i, j)] = mean;
+                a[(j, i)] = mean;
+            }
+        }
+    }
+    let inf = &database.added_mass_inf;
+    database.added_mass_inf = (inf + inf.transpose()) / 2.0;
+    if worst.0 > 1e-3 {
+        database.notes.push(format!(
+            "A~ made symmetric (reciprocity): the largest asymmetry, {:.2} % of sqrt(|A~_ii \
+             A~_jj|), is {}-{} at omega = {:.4} rad/s (a coarse mesh's)",
+            100.0 * worst.0,
+            database.dof_names[worst.1],
+            database.dof_names[worst.2],
+            worst.3
+        ));
+    }
+}
+
+/// Mixed units show in long waves: the heave exciting force of the lowest frequency tends
+/// to the restoring `C_33` (the crest's hydrostatic pressure). Warns when they are a factor
+/// 2 apart while the waves are long (`k sqrt(A_wp) < 0.3`, `A_wp = C_33 / (rho g)`).
+fn check_units(database: &mut Database) {
+    let Some(h) = database.dof_names.iter().position(|d| d == "heave") else {
+        return;
+    };
+    let c33 = database.stiffness_hydrostatic[(h, h)];
+    let (Some(x), Some(&omega)) = (database.excitation.first(), database.omega.first()) else {
+        return;
+    };
+    if c33 <= 0.0 {
+        return;
+    }
+    let k = omega * omega / database.g;
+    let breadth = (c33 / (database.rho * database.g)).sqrt();
+    if k * breadth >= 0.3 {
+        return;
+    }
+    let largest = (0..x.ncols()).map(|b| x[(h, b)].norm()).fold(0.0, f64::max);
+    let ratio = largest / c33;
+    if !(0.5..=2.0).contains(&ratio) {
+        database.warnings.push(format!(
+            "the heave exciting force at omega = {omega:.4} rad/s is {ratio:.3} times the \
+             restoring C33 where long waves make them nearly equal: files of different runs or \
+             length scales (--length-scale)?"
+        ));
+    }
+}

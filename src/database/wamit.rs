@@ -1,0 +1,745 @@
+//! WAMIT numeric output files: `NAME.1` (added mass and damping), `NAME.3` (exciting force per
+//! heading), `NAME.hst` (hydrostatic restoring), as written by WAMIT, by Capytaine's
+//! `export_to_wamit`, by BEMRosetta and by HAMS.
+//!
+//! ```text
+//! NAME.1    PER  I  J  Abar  Bbar        (PER = -1: omega = 0; PER = 0: omega = inf; no Bbar)
+//! NAME.3    PER  BETA  I  Mod  Pha  Re  Im       (Pha in degrees)
+//! NAME.hst  I  J  Cbar
+//! ```
+//!
+//! Dimensional values, with `L` the length scale ULEN and `e_i` = 1 for the rotations 4..6,
+//! 0 otherwise (surge, sway, heave, generalized modes):
+//!
+//! `A_ij = Abar rho L^(3 + e_i + e_j)`, `B_ij = Bbar rho omega L^(3 + e_i + e_j)`,
+//! `X_i = Xbar rho g a L^(2 + e_i)`, `C_ij = Cbar rho g L^(2 + e_i + e_j)`.
+//!
+//! WAMIT's time factor is `exp(+i omega t)`, ours: `A~ = A - i B / omega` and `X = Re + i Im`
+//! as written; a file in `exp(-i omega t)` (older HAMS builds) is read with
+//! [`WamitParams::conjugate`]. `A_ij` is the force in mode I from motion in mode J.
+//! BETA is the direction the waves travel to, from +x (0 = towards +x), as our heading.
+//!
+//! What real files do and the reader accepts: header lines (skipped while no number row has
+//! been seen), tabs or spaces, `E` or Fortran `D` exponents, any row order, `.1` entries left
+//! out (zero by a symmetry plane, or a mode switched off): missing pairs are zero as long as
+//! every frequency leaves out the same ones. What it refuses, naming file, line and field:
+//! a non-finite or unparsable number, a short row, a duplicated entry, two frequencies
+//! within 1e-6 of each other, a frequency block with fewer entries than the others (a
+//! truncated file), a `.3` row whose modulus and phase disagree with its real and imaginary
+//! parts, and every size beyond the limits below, before allocating.
+
+use super::{Database, DatabaseError};
+use crate::fmu::DofUnit;
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Largest file read, in bytes (256 MiB).
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+/// Largest number of data rows in one file.
+pub const MAX_ROWS: usize = 5_000_000;
+/// Largest mode index (100 bodies of 6 DOFs, or generalized modes).
+pub const MAX_MODE_INDEX: usize = 600;
+/// Largest number of matrix entries kept (frequencies x modes^2): 800 MB of complex numbers.
+pub const MAX_ENTRIES: usize = 50_000_000;
+/// Largest number of leading header lines skipped.
+const MAX_HEADER_LINES: usize = 100;
+/// Two frequencies closer than this (relative) are one frequency written twice.
+const SAME_FREQUENCY: f64 = 1e-6;
+/// A `.3` frequency matches a `.1` one within this (relative): the files' 7 digits.
+const MATCHING_FREQUENCY: f64 = 1e-4;
+/// Modulus and phase must agree with Re and Im within these (the files' digits).
+const MODULUS_AGREEMENT: f64 = 1e-4;
+const PHASE_AGREEMENT_DEG: f64 = 0.05;
+
+/// Names of the rigid modes 1..6.
+pub const RIGID_MODES: [&str; 6] = ["surge", "sway", "heave", "roll", "pitch", "yaw"];
+
+/// What the first column of `.1` and `.3` holds (WAMIT's `IPEROUT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrequencyColumn {
+    /// Period T in s (WAMIT's default, IPEROUT = 1); limits PER = -1 (omega = 0) and
+    /// PER = 0 (omega = inf).
+    Period,
+    /// Circular frequency omega in rad/s (IPEROUT = 2); limits as HAMS writes them: 0 is
+    /// omega = 0, -1 is omega = inf.
+    RadPerSecond,
+    /// Frequency in Hz; limits as [`FrequencyColumn::RadPerSecond`].
+    Hertz,
+}
+
+/// How to read a WAMIT file set, with documented defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WamitParams {
+    /// ULEN, the length scale of the nondimensional values, m. Default 1 (Capytaine,
+    /// BEMRosetta and most WAMIT runs).
+    pub length_scale: f64,
+    /// Water density the SI values are given for, kg/m^3 (the files do not depend on it).
+    pub rho: f64,
+    /// Gravity, m/s^2.
+    pub g: f64,
+    /// The first column. Default [`FrequencyColumn::Period`].
+    pub frequency_column: FrequencyColumn,
+    /// The files are in `exp(-i omega t)`: conjugate the exciting force. Default false.
+    pub conjugate: bool,
+}
+
+impl Default for WamitParams {
+    fn default() -> Self {
+        WamitParams {
+            length_scale: 1.0,
+            rho: crate::fmu::description::DEFAULT_RHO,
+            g: crate::fmu::description::DEFAULT_G,
+            frequency_column: FrequencyColumn::Period,
+            conjugate: false,
+        }
+    }
+}
+
+/// One file's text and the name errors use.
+#[derive(Clone, Copy, Debug)]
+pub struct Source<'a> {
+    /// File name as the user gave it.
+    pub name: &'a str,
+    /// Its text.
+    pub text: &'a str,
+}
+
+/// The three files' contents (`.3`, `.hst` optional).
+#[derive(Clone, Copy, Debug)]
+pub struct WamitTexts<'a> {
+    /// `NAME.1`.
+    pub radiation: Source<'a>,
+    /// `NAME.3`.
+    pub excitation: Option<Source<'a>>,
+    /// `NAME.hst`.
+    pub hydrostatics: Option<Source<'a>>,
+}
+
+/// A frequency of the first column: zero, infinite or finite (rad/s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Frequency {
+    Zero,
+    Infinite,
+    Finite(f64),
+}
+
+/// The data rows of one file: fields of each row with its line number.
+struct Rows<'a> {
+    source: Source<'a>,
+    rows: Vec<(usize, Vec<&'a str>)>,
+}
+
+impl<'a> Rows<'a> {
+    fn read(source: Source<'a>) -> Result<Rows<'a>, DatabaseError> {
+        if source.text.len() as u64 > MAX_FILE_BYTES {
+            return Err(DatabaseError::file(
+                source.name,
+                format!("larger than {MAX_FILE_BYTES} bytes"),
+            ));
+        }
+        let mut rows = Vec::new();
+        let mut header_lines = 0;
+        for (index, line) in source.text.lines().enumerate() {
+            let fields: Vec<&str> = line.split_whitespace().collect();
+            let Some(first) = fields.first() else {
+                continue;
+            };
+            if rows.is_empty() && parse_number(first).is_none() {
+                header_lines += 1;
+                if header_lines > MAX_HEADER_LINES {
+                    return Err(DatabaseError::at(
+                        source.name,
+                        index + 1,
+                        format!("more than {MAX_HEADER_LINES} lines before the first number row"),
+                    ));
+                }
+                continue;
+            }
+            if rows.len() == MAX_ROWS {
+                return Err(DatabaseError::at(
+                    source.name,
+                    index + 1,
+                    format!("more than {MAX_ROWS} rows"),
+                ));
+            }
+            rows.push((index + 1, fields));
+        }
+        if rows.is_empty() {
+            return Err(DatabaseError::file(source.name, "no data rows".to_string()));
+        }
+        Ok(Rows { source, rows })
+    }
+
+    fn error(&self, line: usize, message: String) -> DatabaseError {
+        DatabaseError::at(self.source.name, line, message)
+    }
+
+    fn number(&self, line: usize, fields: &[&str], column: usize, what: &str) -> Result<f64, DatabaseError> {
+        let token = fields[column];
+        match parse_number(token) {
+            Some(x) if x.is_finite() => Ok(x),
+            _ => Err(self.error(
+                line,
+                format!("field {what} (column {}): '{token}' is not a finite number", column + 1),
+            )),
+        }
+    }
+
+    fn mode(&self, line: usize, fields: &[&str], column: usize, what: &str) -> Result<usize, DatabaseError> {
+        let token = fields[column];
+        match token.parse::<usize>() {
+            Ok(i) if (1..=MAX_MODE_INDEX).contains(&i) => Ok(i),
+            _ => Err(self.error(
+                line,
+                format!(
+                    "field {what} (column {}): '{token}' is not a mode index 1..{MAX_MODE_INDEX}",
+                    column + 1
+                ),
+            )),
+        }
+    }
+
+    fn columns(&self, line: usize, fields: &[&str], allowed: &[usize], layout: &str) -> Result<(), DatabaseError> {
+        if allowed.contains(&fields.len()) {
+            Ok(())
+        } else {
+            Err(self.error(
+                line,
+                format!("{} fields where the row needs {layout} (a truncated or mixed file?)", fields.len()),
+            ))
+        }
+    }
+
+    fn frequency(&self, line: usize, value: f64, column: FrequencyColumn) -> Result<Frequency, DatabaseError> {
+        let out = match column {
+            FrequencyColumn::Period => {
+                if value == -1.0 {
+                    Some(Frequency::Zero)
+                } else if value == 0.0 {
+                    Some(Frequency::Infinite)
+                } else if value > 0.0 {
+                    Some(Frequency::Finite(2.0 * std::f64::consts::PI / value))
+                } else {
+                    None
+                }
+            }
+            FrequencyColumn::RadPerSecond | FrequencyColumn::Hertz => {
+                let scale = if column == FrequencyColumn::Hertz {
+                    2.0 * std::f64::consts::PI
+                } else {
+                    1.0
+                };
+                if value == 0.0 {
+                    Some(Frequency::Zero)
+                } else if value == -1.0 {
+                    Some(Frequency::Infinite)
+                } else if value > 0.0 {
+                    Some(Frequency::Finite(value * scale))
+                } else {
+                    None
+                }
+            }
+        };
+        match out {
+            Some(Frequency::Finite(w)) if !(w.is_finite() && w > 0.0) => None,
+            other => other,
+        }
+        .ok_or_else(|| {
+            self.error(
+                line,
+                format!(
+                    "field PER (column 1): {value} is no frequency in a {} column (the limits are \
+                     written as -1 and 0)",
+                    match column {
+                        FrequencyColumn::Period => "period",
+                        FrequencyColumn::RadPerSecond => "rad/s",
+                        FrequencyColumn::Hertz => "Hz",
+                    }
+                ),
+            )
+        })
+    }
+}
+
+/// A number as the files write it (`1.5E+02`, `0.15E+03`, Fortran `1.5D+02`).
+fn parse_number(token: &str) -> Option<f64> {
+    if token.len() > 64 {
+        return None;
+    }
+    let value = token.parse::<f64>().ok().or_else(|| {
+        token
+            .replace(['D', 'd'], "E")
+            .parse::<f64>()
+            .ok()
+    })?;
+    // Rust accepts "inf" and "nan"; the files never write them.
+    let alphabetic = token
+        .chars()
+        .any(|c| c.is_ascii_alphabetic() && !matches!(c, 'e' | 'E' | 'd' | 'D'));
+    (!alphabetic).then_some(value)
+}
+
+/// `e_i`: 1 for the rotations 4..6, 0 for the translations and the generalized modes.
+pub fn length_exponent(mode: usize) -> u8 {
+    u8::from((4..=6).contains(&mode))
+}
+
+/// The DOF name of mode index `mode` (1-based): `surge` .. `yaw`, then `mode7`, `mode8`, ...
+pub fn mode_name(mode: usize) -> String {
+    match RIGID_MODES.get(mode.wrapping_sub(1)) {
+        Some(name) => (*name).to_string(),
+        None => format!("mode{mode}"),
+    }
+}
+
+/// An entry key: the frequency's bits (finite ones) and the pair.
+type PairKey = (usize, usize);
+
+struct RadiationRows {
+    /// Finite frequencies (rad/s, as read) with their entries (pair -> (A, B, line)).
+    finite: BTreeMap<u64, BTreeMap<PairKey, (f64, f64, usize)>>,
+    infinite: BTreeMap<PairKey, (f64, usize)>,
+    zero: BTreeMap<PairKey, (f64, usize)>,
+    modes: BTreeSet<usize>,
+}
+
+fn read_radiation(rows: &Rows, params: &WamitParams) -> Result<RadiationRows, DatabaseError> {
+    let mut out = RadiationRows {
+        finite: BTreeMap::new(),
+        infinite: BTreeMap::new(),
+        zero: BTreeMap::new(),
+        modes: BTreeSet::new(),
+    };
+    for (line, fields) in &rows.rows {
+        let line = *line;
+        rows.columns(line, fields, &[4, 5], "PER I J A [B]")?;
+        let per = rows.number(line, fields, 0, "PER")?;
+        let frequency = rows.frequency(line, per, params.frequency_column)?;
+        let i = rows.mode(line, fields, 1, "I")?;
+        let j = rows.mode(line, fields, 2, "J")?;
+        let a = rows.number(line, fields, 3, "A")?;
+        out.modes.insert(i);
+        out.modes.insert(j);
+        let duplicate = |previous: usize| {
+            rows.error(
+                line,
+                format!("entry ({i},{j}) at PER {per} is written twice (lines {previous} and {line})"),
+            )
+        };
+        match frequency {
+            Frequency::Zero | Frequency::Infinite => {
+                let map = if frequency == Frequency::Zero {
+                    &mut out.zero
+                } else {
+                    &mut out.infinite
+                };
+                if let Some((_, previous)) = map.insert((i, j), (a, line)) {
+                    return Err(duplicate(previous));
+                }
+            }
+            Frequency::Finite(omega) => {
+                if fields.len() != 5 {
+                    return Err(rows.error(
+                        line,
+                        format!("4 fields at PER {per}: a finite frequency needs A and B"),
+                    ));
+                }
+                let b = rows.number(line, fields, 4, "B")?;
+                let block = out.finite.entry(omega.to_bits()).or_default();
+                if let Some((_, _, previous)) = block.insert((i, j), (a, b, line)) {
+                    return Err(duplicate(previous));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The first line of a block, for messages.
+fn first_line<V>(block: &BTreeMap<PairKey, V>, line: impl Fn(&V) -> usize) -> usize {
+    block.values().map(line).min().unwrap_or(0)
+}
+
+/// Reads a WAMIT file set into SI ([`Database`]) for `params`. `A_inf` is the `omega = inf`
+/// rows' (zero when the file has none: [`Database::notes`] then says so and the caller
+/// estimates it); no spike is removed here.
+///
+/// # Errors
+/// Every malformed, truncated, inconsistent or oversized input, naming file, line and field.
+pub fn read(name: &str, texts: WamitTexts, params: &WamitParams) -> Result<ImportedWamit, DatabaseError> {
+    let radiation_file = texts.radiation.name;
+    if !(params.length_scale.is_finite() && params.length_scale > 0.0) {
+        return Err(DatabaseError::file(
+            radiation_file,
+            format!("length scale {} m: it must be finite and > 0", params.length_scale),
+        ));
+    }
+    let rows = Rows::read(texts.radiation)?;
+    let radiation = read_radiation(&rows, params)?;
+    if radiation.finite.is_empty() {
+        return Err(DatabaseError::file(
+            radiation_file,
+            "no row at a finite frequency (only the limits)".to_string(),
+        ));
+    }
+    let modes: Vec<usize> = radiation.modes.iter().copied().collect();
+    if modes.iter().any(|&m| m > 6) && params.length_scale != 1.0 {
+        return Err(DatabaseError::file(
+            radiation_file,
+            format!(
+                "modes beyond 6 (generalized modes or further bodies) with a length scale of {} m: \
+                 the WAMIT format does not fix their length exponents; use files written with \
+                 ULEN = 1",
+                params.length_scale
+            ),
+        ));
+    }
+    let n = modes.len();
+    let count = radiation.finite.len();
+    if n.saturating_mul(n).saturating_mul(count + 2) > MAX_ENTRIES {
+        return Err(DatabaseError::file(
+            radiation_file,
+            format!("{count} frequencies x {n} modes^2 exceed {MAX_ENTRIES} entries"),
+        ));
+    }
+    // Frequencies ascending; near-duplicates refused.
+    let mut omegas: Vec<(f64, u64)> = radiation
+        .finite
+        .keys()
+        .map(|&bits| (f64::from_bits(bits), bits))
+        .collect();
+    omegas.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for pair in omegas.windows(2) {
+        if (pair[1].0 - pair[0].0) <= SAME_FREQUENCY * pair[1].0 {
+            let line_of = |bits: u64| first_line(&radiation.finite[&bits], |v| v.2);
+            return Err(DatabaseError::at(
+                radiation_file,
+                line_of(pair[1].1),
+                format!(
+                    "frequencies {} and {} rad/s (lines {} and {}) are the same to 1e-6: a \
+                     frequency written twice",
+                    pair[0].0,
+                    pair[1].0,
+                    line_of(pair[0].1),
+                    line_of(pair[1].1)
+                ),
+            ));
+        }
+    }
+    // Every finite block must hold the same pairs (left-out pairs are symmetry zeros).
+    let all_pairs: BTreeSet<PairKey> = radiation
+        .finite
+        .values()
+        .flat_map(|block| block.keys().copied())
+        .collect();
+    for (omega, bits) in &omegas {
+        let block = &radiation.finite[bits];
+        if block.len() != all_pairs.len() {
+            let missing = all_pairs.iter().find(|p| !block.contains_key(p)).copied();
+            let (i, j) = missing.unwrap_or((0, 0));
+            return Err(DatabaseError::at(
+                radiation_file,
+                first_line(block, |v| v.2),
+                format!(
+                    "the block at omega = {omega} rad/s has {} entries where the file's blocks \
+                     together have {} (entry ({i},{j}) missing): a truncated or incomplete file",
+                    block.len(),
+                    all_pairs.len()
+                ),
+            ));
+        }
+    }
+    let position: BTreeMap<usize, usize> = modes.iter().enumerate().map(|(k, &m)| (m, k)).collect();
+    let l = params.length_scale;
+    let exponent = |i: usize, j: usize| 3 + i32::from(length_exponent(i)) + i32::from(length_exponent(j));
+    let rho = params.rho;
+    let mut notes = Vec::new();
+    let mut added_mass = Vec::with_capacity(count);
+    for (omega, bits) in &omegas {
+        let mut a = DMatrix::<Complex64>::zeros(n, n);
+        for (&(i, j), &(abar, bbar, _)) in &radiation.finite[bits] {
+            let scale = rho * l.powi(exponent(i, j));
+            // A~ = A - i B / omega with B = Bbar rho omega L^k.
+            a[(position[&i], position[&j])] = Complex64::new(abar * scale, -bbar * scale);
+        }
+        let _ = omega;
+        added_mass.push(a);
+    }
+    let limit = |map: &BTreeMap<PairKey, (f64, usize)>| {
+        let mut m = DMatrix::<f64>::zeros(n, n);
+        for (&(i, j), &(abar, _)) in map {
+            m[(position[&i], position[&j])] = abar * rho * l.powi(exponent(i, j));
+        }
+        m
+    };
+    let added_mass_inf = if radiation.infinite.is_empty() {
+        None
+    } else {
+        Some(limit(&radiation.infinite))
+    };
+    let added_mass_zero = (!radiation.zero.is_empty()).then(|| limit(&radiation.zero));
+    let omega: Vec<f64> = omegas.iter().map(|(w, _)| *w).collect();
+
+    let dof_names: Vec<String> = modes.iter().map(|&m| mode_name(m)).collect();
+    let dof_units: Vec<DofUnit> = modes
+        .iter()
+        .zip(&dof_names)
+        .map(|(&m, name)| DofUnit::new(name, length_exponent(m), (4..=6).contains(&m)))
+        .collect();
+
+    let stiffness = match texts.hydrostatics {
+        Some(source) => Some(read_hydrostatics(source, &position, params, &mut notes)?),
+        None => None,
+    };
+    let (headings, excitation, kept) = match texts.excitation {
+        Some(source) => read_excitation(source, &omega, &position, params, &mut notes)?,
+        None => (Vec::new(), Vec::new(), vec![true; omega.len()]),
+    };
+    let keep = |v: Vec<DMatrix<Complex64>>| -> Vec<DMatrix<Complex64>> {
+        v.into_iter().zip(&kept).filter(|(_, k)| **k).map(|(m, _)| m).collect()
+    };
+    let omega: Vec<f64> = omega.iter().zip(&kept).filter(|(_, k)| **k).map(|(w, _)| *w).collect();
+    let added_mass = keep(added_mass);
+    let excitation = keep(excitation);
+    let heave = modes.iter().position(|&m| m == 3);
+    let excitation_long_wave = match (&stiffness, heave, headings.is_empty()) {
+        // A crest of height a lifts the pressure by rho g a everywhere: the force of a body
+        // moved down by a, -C_j3 (-a) (DESIGN.md, "Waves and hydrostatics").
+        (Some(c), Some(h), false) => Some((0..n).map(|j| c[(j, h)]).collect()),
+        _ => None,
+    };
+    let database = Database {
+        name: name.to_string(),
+        source: format!("imported from WAMIT files ({radiation_file})"),
+        dof_names,
+        dof_units,
+        rho,
+        g: params.g,
+        omega,
+        added_mass,
+        added_mass_inf: added_mass_inf.clone().unwrap_or_else(|| DMatrix::zeros(n, n)),
+        headings,
+        excitation,
+        froude_krylov: Vec::new(),
+        excitation_long_wave,
+        stiffness_hydrostatic: stiffness.unwrap_or_else(|| DMatrix::zeros(n, n)),
+        reference_length: l,
+        failures: Vec::new(),
+        warnings: Vec::new(),
+        notes,
+        body_panels: Vec::new(),
+    };
+    Ok(ImportedWamit {
+        database,
+        added_mass_inf_given: added_mass_inf.is_some(),
+        added_mass_zero,
+        has_excitation: texts.excitation.is_some(),
+        has_hydrostatics: texts.hydrostatics.is_some(),
+    })
+}
+
+/// What [`read`] gives: the database and what the files held.
+#[derive(Clone, Debug)]
+pub struct ImportedWamit {
+    /// The SI database (`A_inf` zero when not given).
+    pub database: Database,
+    /// Whether the `.1` file had `omega = inf` rows.
+    pub added_mass_inf_given: bool,
+    /// The `omega = 0` rows, when given (SI).
+    pub added_mass_zero: Option<DMatrix<f64>>,
+    /// Whether a `.3` file was read.
+    pub has_excitation: bool,
+    /// Whether a `.hst` file was read.
+    pub has_hydrostatics: bool,
+}
+
+fn read_hydrostatics(
+    source: Source,
+    position: &BTreeMap<usize, usize>,
+    params: &WamitParams,
+    notes: &mut Vec<String>,
+) -> Result<DMatrix<f64>, DatabaseError> {
+    let rows = Rows::read(source)?;
+    let n = position.len();
+    let mut c = DMatrix::<f64>::zeros(n, n);
+    let mut seen: BTreeMap<PairKey, usize> = BTreeMap::new();
+    let mut dropped = BTreeSet::new();
+    let l = params.length_scale;
+    for (line, fields) in &rows.rows {
+        let line = *line;
+        rows.columns(line, fields, &[3], "I J C")?;
+        let i = rows.mode(line, fields, 0, "I")?;
+        let j = rows.mode(line, fields, 1, "J")?;
+        let value = rows.number(line, fields, 2, "C")?;
+        if let Some(previous) = seen.insert((i, j), line) {
+            return Err(rows.error(
+                line,
+                format!("entry ({i},{j}) is written twice (lines {previous} and {line})"),
+            ));
+        }
+        match (position.get(&i), position.get(&j)) {
+            (Some(&p), Some(&q)) => {
+                let k = 2 + i32::from(length_exponent(i)) + i32::from(length_exponent(j));
+                c[(p, q)] = value * params.rho * params.g * l.powi(k);
+            }
+            _ if value != 0.0 => {
+                dropped.insert(if position.contains_key(&i) { j } else { i });
+            }
+            _ => {}
+        }
+    }
+    if !dropped.is_empty() {
+        let list: Vec<String> = dropped.iter().map(|m| mode_name(*m)).collect();
+        notes.push(format!(
+            "{}: the restoring of {} is left out: the radiation file has no such mode",
+            source.name,
+            list.join(", ")
+        ));
+    }
+    Ok(c)
+}
+
+/// The excitation rows on the radiation file's frequencies: headings (ascending), one matrix
+/// (modes x headings) per frequency, and which frequencies have every entry.
+#[allow(clippy::type_complexity)]
+fn read_excitation(
+    source: Source,
+    omega: &[f64],
+    position: &BTreeMap<usize, usize>,
+    params: &WamitParams,
+    notes: &mut Vec<String>,
+) -> Result<(Vec<f64>, Vec<DMatrix<Complex64>>, Vec<bool>), DatabaseError> {
+    let rows = Rows::read(source)?;
+    let n = position.len();
+    // Headings first (bounded), then the values.
+    let mut headings: Vec<f64> = Vec::new();
+    let mut parsed = Vec::with_capacity(rows.rows.len());
+    for (line, fields) in &rows.rows {
+        let line = *line;
+        rows.columns(line, fields, &[7], "PER BETA I Mod Pha Re Im")?;
+        let per = rows.number(line, fields, 0, "PER")?;
+        let frequency = rows.frequency(line, per, params.frequency_column)?;
+        let Frequency::Finite(w) = frequency else {
+            return Err(rows.error(
+                line,
+                format!("field PER (column 1): {per} is a limit; the exciting force has none"),
+            ));
+        };
+        let beta = rows.number(line, fields, 1, "BETA")?;
+        let mode = rows.mode(line, fields, 2, "I")?;
+        let modulus = rows.number(line, fields, 3, "Mod")?;
+        let phase = rows.number(line, fields, 4, "Pha")?;
+        let re = rows.number(line, fields, 5, "Re")?;
+        let im = rows.number(line, fields, 6, "Im")?;
+        let from_re_im = re.hypot(im);
+        let scale = modulus.abs().max(from_re_im);
+        let modulus_ok = (modulus - from_re_im).abs() <= MODULUS_AGREEMENT * scale + 1e-30;
+        let phase_gap = {
+            let d = (im.atan2(re).to_degrees() - phase).rem_euclid(360.0);
+            d.min(360.0 - d)
+        };
+        // The phase of a zero entry is arbitrary (WAMIT writes 90).
+        let phase_ok = from_re_im <= 1e-5 * scale.max(1e-300) || phase_gap <= PHASE_AGREEMENT_DEG
+            || from_re_im == 0.0;
+        if !(modulus_ok && phase_ok) {
+            return Err(rows.error(
+                line,
+                format!(
+                    "Mod {modulus} and Pha {phase} deg disagree with Re {re} and Im {im} (modulus \
+                     {from_re_im}, phase {:.3} deg): a hand-edited or mixed row",
+                    im.atan2(re).to_degrees()
+                ),
+            ));
+        }
+        if !headings.iter().any(|h| *h == beta) {
+            if headings.len() == super::MAX_HEADINGS {
+                return Err(rows.error(
+                    line,
+                    format!(
+                        "field BETA: more than {} headings (the FMU's table holds at most {})",
+                        super::MAX_HEADINGS,
+                        super::MAX_HEADINGS
+                    ),
+                ));
+            }
+            headings.push(beta);
+        }
+        parsed.push((line, per, w, beta, mode, Complex64::new(re, im)));
+    }
+    headings.sort_by(f64::total_cmp);
+    let h = headings.len();
+    let mut excitation = vec![DMatrix::<Complex64>::zeros(n, h); omega.len()];
+    let mut seen: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
+    let mut unmatched = BTreeSet::new();
+    let mut foreign_modes = BTreeSet::new();
+    let l = params.length_scale;
+    for (line, per, w, beta, mode, value) in parsed {
+        // The radiation frequency this row belongs to, within the files' digits.
+        let k = omega.partition_point(|x| *x < w * (1.0 - MATCHING_FREQUENCY));
+        let Some(k) = (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
+        else {
+            unmatched.insert(per.to_bits());
+            continue;
+        };
+        let Some(&p) = position.get(&mode) else {
+            foreign_modes.insert(mode);
+            continue;
+        };
+        let b = headings.iter().position(|x| *x == beta).unwrap_or(0);
+        if let Some(previous) = seen.insert((k, b, p), line) {
+            return Err(rows.error(
+                line,
+                format!(
+                    "mode {mode} at PER {per}, BETA {beta} is written twice (lines {previous} and \
+                     {line})"
+                ),
+            ));
+        }
+        let value = if params.conjugate { value.conj() } else { value };
+        excitation[k][(p, b)] = value * (params.rho * params.g * l.powi(2 + i32::from(length_exponent(mode))));
+    }
+    if !foreign_modes.is_empty() {
+        let list: Vec<String> = foreign_modes.iter().map(|m| mode_name(*m)).collect();
+        notes.push(format!(
+            "{}: the exciting force of {} is left out: the radiation file has no such mode",
+            source.name,
+            list.join(", ")
+        ));
+    }
+    if !unmatched.is_empty() {
+        let list: Vec<String> = unmatched.iter().map(|b| f64::from_bits(*b).to_string()).collect();
+        notes.push(format!(
+            "{}: rows at PER {} left out: the radiation file has no such frequency",
+            source.name,
+            list.join(", ")
+        ));
+    }
+    let full = n * h;
+    let kept: Vec<bool> = (0..omega.len())
+        .map(|k| (0..h).all(|b| (0..n).all(|p| seen.contains_key(&(k, b, p)))))
+        .collect();
+    if kept.iter().all(|k| !k) {
+        return Err(DatabaseError::file(
+            source.name,
+            format!(
+                "no frequency of the radiation file has all {full} exciting forces ({n} modes x {h} \
+                 headings): files of different runs?"
+            ),
+        ));
+    }
+    let missing: Vec<String> = omega
+        .iter()
+        .zip(&kept)
+        .filter(|(_, k)| !**k)
+        .map(|(w, _)| format!("{:.6}", w))
+        .collect();
+    if !missing.is_empty() {
+        notes.push(format!(
+            "{}: omega = {} rad/s left out: not every mode and heading has its exciting force there",
+            source.name,
+            missing.join(", ")
+        ));
+    }
+    Ok((headings, excitation, kept))
+}
