@@ -18,9 +18,10 @@ pub struct FitArgs {
     /// The hull and the sweep settings.
     #[command(flatten)]
     pub sweep: sweep_cmd::HullSweepArgs,
-    /// Frequency band to fit: `MIN:MAX` in kR, or `MIN:MAXrad/s`.
-    #[arg(long, default_value = "0.05:5", allow_hyphen_values = true)]
-    pub band: String,
+    /// Frequency band to fit: `MIN:MAX` in kR, or `MIN:MAXrad/s` (default: 0.05:5 in kR; an
+    /// imported database: all its frequencies).
+    #[arg(long, allow_hyphen_values = true)]
+    pub band: Option<String>,
     /// Tolerance: largest error as a fraction of sqrt(|A_ii A_jj|) (default 0.01).
     #[arg(long = "tol")]
     pub tolerance: Option<f64>,
@@ -74,36 +75,56 @@ pub fn scene(
     })
 }
 
+/// The band of a section's fit when `--band` is not given (kR).
+const DEFAULT_BAND: &str = "0.05:5";
+
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
-    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
+    let whole_body = if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
+        Some(false)
+    } else if crate::database_cmd::is_database_file(&args.sweep.hull) {
+        Some(true)
+    } else {
+        None
+    };
+    if let Some(imported) = whole_body {
         let unsupported = [
             ("--form", args.form.is_some()),
             ("--plots", args.plots.is_some()),
             ("--json", args.json),
         ];
         if let Some((flag, _)) = unsupported.iter().find(|(_, given)| *given) {
-            return Err(format!("{flag} is not yet available for ship files"));
+            return Err(format!(
+                "{flag} is not yet available for ship files and imported databases"
+            ));
         }
-        let fitted = crate::ship_cmd::fit(
-            &args.sweep,
-            Some(&args.band),
-            args.tolerance,
-            args.order,
-            args.max_step,
-        )?;
+        let fitted = if imported {
+            crate::database_cmd::fit(
+                &args.sweep,
+                args.band.as_deref(),
+                args.tolerance,
+                args.order,
+                args.max_step,
+            )?
+        } else {
+            crate::ship_cmd::fit(
+                &args.sweep,
+                args.band.as_deref(),
+                args.tolerance,
+                args.order,
+                args.max_step,
+            )?
+        };
         if let Some(path) = &args.network_out {
             crate::output::file(path, fitted.fit.network.to_xml_string().as_bytes())?;
         }
-        return crate::output::stdout(
-            format!("{}\n", crate::ship_cmd::fit_text(&fitted)).as_bytes(),
-        );
+        return crate::output::stdout(format!("{}\n", crate::body::fit_text(&fitted)).as_bytes());
     }
     let (hull, sweep_params) = args.sweep.resolve()?;
     let scene = scene(
         hull,
         sweep_params,
-        &args.band,
+        args.band.as_deref().unwrap_or(DEFAULT_BAND),
         args.tolerance,
         args.order,
         args.form.as_deref(),

@@ -12,6 +12,8 @@
 //! error (also when standard output cannot be written, see [`output`]); 2 for command-line
 //! syntax errors (clap's usage message).
 
+mod body;
+mod database_cmd;
 mod fit_cmd;
 mod hull_arg;
 mod output;

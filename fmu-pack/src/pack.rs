@@ -166,6 +166,9 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
         return crate::ship_cmd::pack(args);
     }
+    if crate::database_cmd::is_database_file(&args.sweep.hull) {
+        return crate::database_cmd::pack(args);
+    }
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let hull = HullInfo::new(&resolved);
     let mut report = None;

@@ -59,6 +59,36 @@ pub struct HullSweepArgs {
     /// starboard towards port, 180 head seas). Default 0,45,90,135,180.
     #[arg(long, value_name = "DEG,DEG,..", allow_hyphen_values = true)]
     pub headings: Option<String>,
+    /// Imported WAMIT files only: the length scale ULEN of their nondimensional values, in
+    /// metres (default 1, as Capytaine and BEMRosetta write them).
+    #[arg(long, value_name = "METRES")]
+    pub length_scale: Option<f64>,
+    /// Imported WAMIT files only: what their first column holds: `period` (s, WAMIT's
+    /// default), `omega` (rad/s) or `hz`.
+    #[arg(long, value_name = "period|omega|hz")]
+    pub frequency_column: Option<String>,
+    /// Imported files only: their exciting force is in exp(-i omega t) (older HAMS builds):
+    /// conjugate it.
+    #[arg(long)]
+    pub conjugate: bool,
+}
+
+impl HullSweepArgs {
+    /// Refuses the options of imported databases for a section or a ship.
+    pub fn refuse_import_options(&self) -> Result<(), String> {
+        let given = [
+            ("--length-scale", self.length_scale.is_some()),
+            ("--frequency-column", self.frequency_column.is_some()),
+            ("--conjugate", self.conjugate),
+        ];
+        match given.iter().find(|(_, g)| *g) {
+            Some((flag, _)) => Err(format!(
+                "{flag} applies to an imported database (NAME.1), not to '{}'",
+                self.hull
+            )),
+            None => Ok(()),
+        }
+    }
 }
 
 /// One worker thread per core, within [`sweep::MAX_THREADS`].
@@ -71,6 +101,7 @@ fn default_threads() -> usize {
 impl HullSweepArgs {
     /// The hull and the sweep parameters.
     pub fn resolve(&self) -> Result<(Hull, SweepParams), String> {
+        self.refuse_import_options()?;
         if self.omega.is_some() || self.headings.is_some() {
             return Err(
                 "--omega and --headings apply to ship files (docs/SHIPS.md); a \
@@ -178,6 +209,9 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 pub fn run(args: &SweepArgs) -> Result<(), String> {
     if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
         return crate::ship_cmd::run(args);
+    }
+    if crate::database_cmd::is_database_file(&args.sweep.hull) {
+        return crate::database_cmd::run(args);
     }
     let (hull, mut params) = args.sweep.resolve()?;
     // The diffraction problems only when a table asks for them.

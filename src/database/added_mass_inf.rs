@@ -49,7 +49,10 @@ fn principal_value(nodes: &[f64], values: &[f64], p: f64, w: f64) -> f64 {
     let pieces = 32;
     let mut tail = 0.0;
     for piece in 0..pieces {
-        let (a, b) = (piece as f64 / pieces as f64, (piece + 1) as f64 / pieces as f64);
+        let (a, b) = (
+            piece as f64 / pieces as f64,
+            (piece + 1) as f64 / pieces as f64,
+        );
         for &(node, weight) in &crate::numerics::GAUSS_LEGENDRE_8 {
             let s = a + (b - a) * (node + 1.0) / 2.0;
             tail += weight * (b - a) / 2.0 * s.powf(p) * last / (last * last - w * w * s * s);
@@ -158,7 +161,11 @@ mod tests {
         let error = e.added_mass_inf[(0, 0)] - a_inf;
         // Measured: within 0.3 % of A_inf; the spread bounds the error.
         assert!(error.abs() < 0.003 * a_inf, "{error}");
-        assert!(e.spread[(0, 0)] >= error.abs() * 0.5, "{:?} {error}", e.spread);
+        assert!(
+            e.spread[(0, 0)] >= error.abs() * 0.5,
+            "{:?} {error}",
+            e.spread
+        );
     }
 
     #[test]

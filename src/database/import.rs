@@ -52,7 +52,10 @@ fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
     String::from_utf8(bytes).map_err(|e| {
         DatabaseError::file(
             &name,
-            format!("not text (invalid UTF-8 at byte {})", e.utf8_error().valid_up_to()),
+            format!(
+                "not text (invalid UTF-8 at byte {})",
+                e.utf8_error().valid_up_to()
+            ),
         )
     })
 }
@@ -84,8 +87,12 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
         .transpose()?;
     let names = [
         path.display().to_string(),
-        excitation_path.map(|p| p.display().to_string()).unwrap_or_default(),
-        hydrostatics_path.map(|p| p.display().to_string()).unwrap_or_default(),
+        excitation_path
+            .map(|p| p.display().to_string())
+            .unwrap_or_default(),
+        hydrostatics_path
+            .map(|p| p.display().to_string())
+            .unwrap_or_default(),
     ];
     let texts = WamitTexts {
         radiation: Source {
@@ -152,9 +159,7 @@ pub fn finish(
                 format!("irregular-frequency spike, kept out: {}", spike.reason),
             ));
         }
-        database
-            .failures
-            .sort_by(|a, b| a.0.total_cmp(&b.0));
+        database.failures.sort_by(|a, b| a.0.total_cmp(&b.0));
         let keep = |v: &mut Vec<DMatrix<Complex64>>| {
             if v.len() == drop.len() {
                 let mut k = 0;

@@ -143,7 +143,8 @@ pub fn find(
                         .map(|&q| (omega[q], added_mass[q][(i, j)]))
                         .collect();
                     let predicted = lagrange(&points, omega[k]);
-                    let d = (added_mass[k][(i, j)] - predicted).norm() / (scale[i] * scale[j]).sqrt();
+                    let d =
+                        (added_mass[k][(i, j)] - predicted).norm() / (scale[i] * scale[j]).sqrt();
                     if d > worst.0 {
                         worst = (d, i, j);
                     }
@@ -200,7 +201,12 @@ mod tests {
             .iter()
             .map(|&w| DMatrix::from_element(1, 1, smooth(w)))
             .collect();
-        let found = find(&omega, &data, &["heave".to_string()], &SpikeParams::default());
+        let found = find(
+            &omega,
+            &data,
+            &["heave".to_string()],
+            &SpikeParams::default(),
+        );
         assert!(found.is_empty(), "{found:?}");
     }
 
@@ -215,7 +221,12 @@ mod tests {
         // flat: an irregular frequency's size.
         let scale = data.iter().map(|m| m[(0, 0)].norm()).fold(0.0, f64::max);
         data[18][(0, 0)] += Complex64::new(0.0, -0.4 * scale);
-        let found = find(&omega, &data, &["heave".to_string()], &SpikeParams::default());
+        let found = find(
+            &omega,
+            &data,
+            &["heave".to_string()],
+            &SpikeParams::default(),
+        );
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].index, 18);
         assert!(found[0].reason.contains("heave"), "{}", found[0].reason);
@@ -230,7 +241,12 @@ mod tests {
             .collect();
         // Im A~ > 0 is b < 0.
         data[0][(0, 0)].im = 5.0;
-        let found = find(&omega, &data, &["heave".to_string()], &SpikeParams::default());
+        let found = find(
+            &omega,
+            &data,
+            &["heave".to_string()],
+            &SpikeParams::default(),
+        );
         assert_eq!(found.first().map(|s| s.index), Some(0), "{found:?}");
         assert!(found[0].reason.contains("negative damping"));
     }

@@ -175,18 +175,33 @@ impl<'a> Rows<'a> {
         DatabaseError::at(self.source.name, line, message)
     }
 
-    fn number(&self, line: usize, fields: &[&str], column: usize, what: &str) -> Result<f64, DatabaseError> {
+    fn number(
+        &self,
+        line: usize,
+        fields: &[&str],
+        column: usize,
+        what: &str,
+    ) -> Result<f64, DatabaseError> {
         let token = fields[column];
         match parse_number(token) {
             Some(x) if x.is_finite() => Ok(x),
             _ => Err(self.error(
                 line,
-                format!("field {what} (column {}): '{token}' is not a finite number", column + 1),
+                format!(
+                    "field {what} (column {}): '{token}' is not a finite number",
+                    column + 1
+                ),
             )),
         }
     }
 
-    fn mode(&self, line: usize, fields: &[&str], column: usize, what: &str) -> Result<usize, DatabaseError> {
+    fn mode(
+        &self,
+        line: usize,
+        fields: &[&str],
+        column: usize,
+        what: &str,
+    ) -> Result<usize, DatabaseError> {
         let token = fields[column];
         match token.parse::<usize>() {
             Ok(i) if (1..=MAX_MODE_INDEX).contains(&i) => Ok(i),
@@ -200,18 +215,32 @@ impl<'a> Rows<'a> {
         }
     }
 
-    fn columns(&self, line: usize, fields: &[&str], allowed: &[usize], layout: &str) -> Result<(), DatabaseError> {
+    fn columns(
+        &self,
+        line: usize,
+        fields: &[&str],
+        allowed: &[usize],
+        layout: &str,
+    ) -> Result<(), DatabaseError> {
         if allowed.contains(&fields.len()) {
             Ok(())
         } else {
             Err(self.error(
                 line,
-                format!("{} fields where the row needs {layout} (a truncated or mixed file?)", fields.len()),
+                format!(
+                    "{} fields where the row needs {layout} (a truncated or mixed file?)",
+                    fields.len()
+                ),
             ))
         }
     }
 
-    fn frequency(&self, line: usize, value: f64, column: FrequencyColumn) -> Result<Frequency, DatabaseError> {
+    fn frequency(
+        &self,
+        line: usize,
+        value: f64,
+        column: FrequencyColumn,
+    ) -> Result<Frequency, DatabaseError> {
         let out = match column {
             FrequencyColumn::Period => {
                 if value == -1.0 {
@@ -267,12 +296,10 @@ fn parse_number(token: &str) -> Option<f64> {
     if token.len() > 64 {
         return None;
     }
-    let value = token.parse::<f64>().ok().or_else(|| {
-        token
-            .replace(['D', 'd'], "E")
-            .parse::<f64>()
-            .ok()
-    })?;
+    let value = token
+        .parse::<f64>()
+        .ok()
+        .or_else(|| token.replace(['D', 'd'], "E").parse::<f64>().ok())?;
     // Rust accepts "inf" and "nan"; the files never write them.
     let alphabetic = token
         .chars()
@@ -324,7 +351,9 @@ fn read_radiation(rows: &Rows, params: &WamitParams) -> Result<RadiationRows, Da
         let duplicate = |previous: usize| {
             rows.error(
                 line,
-                format!("entry ({i},{j}) at PER {per} is written twice (lines {previous} and {line})"),
+                format!(
+                    "entry ({i},{j}) at PER {per} is written twice (lines {previous} and {line})"
+                ),
             )
         };
         match frequency {
@@ -367,12 +396,19 @@ fn first_line<V>(block: &BTreeMap<PairKey, V>, line: impl Fn(&V) -> usize) -> us
 ///
 /// # Errors
 /// Every malformed, truncated, inconsistent or oversized input, naming file, line and field.
-pub fn read(name: &str, texts: WamitTexts, params: &WamitParams) -> Result<ImportedWamit, DatabaseError> {
+pub fn read(
+    name: &str,
+    texts: WamitTexts,
+    params: &WamitParams,
+) -> Result<ImportedWamit, DatabaseError> {
     let radiation_file = texts.radiation.name;
     if !(params.length_scale.is_finite() && params.length_scale > 0.0) {
         return Err(DatabaseError::file(
             radiation_file,
-            format!("length scale {} m: it must be finite and > 0", params.length_scale),
+            format!(
+                "length scale {} m: it must be finite and > 0",
+                params.length_scale
+            ),
         ));
     }
     let rows = Rows::read(texts.radiation)?;
@@ -452,7 +488,8 @@ pub fn read(name: &str, texts: WamitTexts, params: &WamitParams) -> Result<Impor
     }
     let position: BTreeMap<usize, usize> = modes.iter().enumerate().map(|(k, &m)| (m, k)).collect();
     let l = params.length_scale;
-    let exponent = |i: usize, j: usize| 3 + i32::from(length_exponent(i)) + i32::from(length_exponent(j));
+    let exponent =
+        |i: usize, j: usize| 3 + i32::from(length_exponent(i)) + i32::from(length_exponent(j));
     let rho = params.rho;
     let mut notes = Vec::new();
     let mut added_mass = Vec::with_capacity(count);
@@ -497,9 +534,18 @@ pub fn read(name: &str, texts: WamitTexts, params: &WamitParams) -> Result<Impor
         None => (Vec::new(), Vec::new(), vec![true; omega.len()]),
     };
     let keep = |v: Vec<DMatrix<Complex64>>| -> Vec<DMatrix<Complex64>> {
-        v.into_iter().zip(&kept).filter(|(_, k)| **k).map(|(m, _)| m).collect()
+        v.into_iter()
+            .zip(&kept)
+            .filter(|(_, k)| **k)
+            .map(|(m, _)| m)
+            .collect()
     };
-    let omega: Vec<f64> = omega.iter().zip(&kept).filter(|(_, k)| **k).map(|(w, _)| *w).collect();
+    let omega: Vec<f64> = omega
+        .iter()
+        .zip(&kept)
+        .filter(|(_, k)| **k)
+        .map(|(w, _)| *w)
+        .collect();
     let added_mass = keep(added_mass);
     let excitation = keep(excitation);
     let heave = modes.iter().position(|&m| m == 3);
@@ -518,7 +564,9 @@ pub fn read(name: &str, texts: WamitTexts, params: &WamitParams) -> Result<Impor
         g: params.g,
         omega,
         added_mass,
-        added_mass_inf: added_mass_inf.clone().unwrap_or_else(|| DMatrix::zeros(n, n)),
+        added_mass_inf: added_mass_inf
+            .clone()
+            .unwrap_or_else(|| DMatrix::zeros(n, n)),
         headings,
         excitation,
         froude_krylov: Vec::new(),
@@ -640,7 +688,8 @@ fn read_excitation(
             d.min(360.0 - d)
         };
         // The phase of a zero entry is arbitrary (WAMIT writes 90).
-        let phase_ok = from_re_im <= 1e-5 * scale.max(1e-300) || phase_gap <= PHASE_AGREEMENT_DEG
+        let phase_ok = from_re_im <= 1e-5 * scale.max(1e-300)
+            || phase_gap <= PHASE_AGREEMENT_DEG
             || from_re_im == 0.0;
         if !(modulus_ok && phase_ok) {
             return Err(rows.error(
@@ -677,7 +726,8 @@ fn read_excitation(
     for (line, per, w, beta, mode, value) in parsed {
         // The radiation frequency this row belongs to, within the files' digits.
         let k = omega.partition_point(|x| *x < w * (1.0 - MATCHING_FREQUENCY));
-        let Some(k) = (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
+        let Some(k) =
+            (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
         else {
             unmatched.insert(per.to_bits());
             continue;
@@ -696,8 +746,13 @@ fn read_excitation(
                 ),
             ));
         }
-        let value = if params.conjugate { value.conj() } else { value };
-        excitation[k][(p, b)] = value * (params.rho * params.g * l.powi(2 + i32::from(length_exponent(mode))));
+        let value = if params.conjugate {
+            value.conj()
+        } else {
+            value
+        };
+        excitation[k][(p, b)] =
+            value * (params.rho * params.g * l.powi(2 + i32::from(length_exponent(mode))));
     }
     if !foreign_modes.is_empty() {
         let list: Vec<String> = foreign_modes.iter().map(|m| mode_name(*m)).collect();
@@ -708,7 +763,10 @@ fn read_excitation(
         ));
     }
     if !unmatched.is_empty() {
-        let list: Vec<String> = unmatched.iter().map(|b| f64::from_bits(*b).to_string()).collect();
+        let list: Vec<String> = unmatched
+            .iter()
+            .map(|b| f64::from_bits(*b).to_string())
+            .collect();
         notes.push(format!(
             "{}: rows at PER {} left out: the radiation file has no such frequency",
             source.name,

@@ -13,12 +13,12 @@
 
 use super::{SectionMotion, Ship};
 use crate::bem::{IrregularFrequencies, RadiationSolution};
+use crate::database::Database;
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::hydrostatics::{self, HydrostaticsError};
 use crate::panels::PanelParams;
 use crate::sweep::{log_grid, Solver, SweepError, SweepParams};
-use crate::database::Database;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -580,4 +580,3 @@ fn buoyancy_moment(shares: &[Share], restoring: &[hydrostatics::Hydrostatics]) -
         })
         .sum()
 }
-

@@ -1,0 +1,261 @@
+//! The whole-body commands shared by ship files (strip theory, docs/SHIPS.md) and imported 3D
+//! databases (docs/DATABASES.md): the tables of a [`Database`], its fit and its archive.
+
+use crate::output;
+use crate::pack::{locate_binary, pack_network, PackArgs, PackError, PackSummary, PackedNetwork};
+use crate::pipeline::{self, HullInfo};
+use crate::sweep_cmd::SweepArgs;
+use hydrofmu::database::Database;
+use hydrofmu::fmu::Extent;
+use hydrofmu::identify::{self, FitParams, FitReport};
+use hydrofmu::scene::Band;
+use hydrofmu::xml::{format_number, Notation};
+use std::time::{Duration, Instant};
+
+/// Writes the database's tables as `fmu-pack sweep` does, and its warnings, notes and
+/// left-out frequencies to standard error.
+pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String> {
+    let mut text = Vec::new();
+    database
+        .write_csv(&mut text)
+        .map_err(|e| format!("cannot format the table: {e}"))?;
+    output::file(&args.output, &text)?;
+    if let Some(path) = &args.excitation {
+        if database.excitation.is_empty() {
+            return Err(format!(
+                "--excitation: {} has no exciting force",
+                database.name
+            ));
+        }
+        let mut text = Vec::new();
+        database
+            .write_excitation_csv(&mut text)
+            .map_err(|e| format!("cannot format the excitation table: {e}"))?;
+        output::file(path, &text)?;
+    }
+    if let Some(path) = &args.hydrostatics {
+        let mut text = Vec::new();
+        database
+            .write_hydrostatics_csv(&mut text)
+            .map_err(|e| format!("cannot format the restoring table: {e}"))?;
+        output::file(path, &text)?;
+    }
+    print_findings(database);
+    Ok(())
+}
+
+/// Warnings, notes and left-out frequencies, one line each on standard error.
+pub fn print_findings(database: &Database) {
+    for warning in &database.warnings {
+        output::stderr_line(&format!("warning: {warning}"));
+    }
+    for note in &database.notes {
+        output::stderr_line(&format!("note: {note}"));
+    }
+    for (omega, reason) in &database.failures {
+        output::stderr_line(&format!(
+            "warning: omega = {} rad/s left out: {reason}",
+            format_number(*omega, Notation::Plain)
+        ));
+    }
+}
+
+/// A whole body's fit.
+pub struct BodyFit {
+    /// The database (SI, at the reference rho and g).
+    pub database: Database,
+    /// What the body is, in a line or more (first lines of the report).
+    pub description: String,
+    /// Lines appended to the report (e.g. a ship's girder modes' dry properties).
+    pub appendix: String,
+    /// The band fitted, rad/s.
+    pub band: (f64, f64),
+    /// The fit.
+    pub fit: FitReport,
+    /// Wall times of the sweep (or import) and the fit.
+    pub times: (Duration, Duration),
+}
+
+/// The band to fit in rad/s: `band` as given (kR with R = `reference_length`, or rad/s), or
+/// `default`; cut at the Nyquist frequency of `max_step`.
+pub fn band(
+    band: Option<&str>,
+    default: Band,
+    reference_length: f64,
+    g: f64,
+    max_step: Option<f64>,
+) -> Result<(f64, f64), String> {
+    let band = match band {
+        Some(text) => pipeline::parse_band(text)?,
+        None => default,
+    };
+    let (lo, mut hi) = band.to_rad_per_second(reference_length, g);
+    if let Some(h) = max_step {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("--max-step {h}: the step must be finite and > 0 s"));
+        }
+        let nyquist = std::f64::consts::PI / h;
+        if nyquist <= lo * 1.5 {
+            return Err(format!(
+                "--max-step {h}: its Nyquist frequency pi/h = {nyquist:.4} rad/s leaves nothing \
+                 of the band {lo:.4} .. {hi:.4} rad/s"
+            ));
+        }
+        hi = hi.min(nyquist);
+    }
+    Ok((lo, hi))
+}
+
+/// Fits every DOF's radiation force of `database` at once over `band` (rad/s).
+pub fn fit(
+    database: Database,
+    description: String,
+    appendix: String,
+    band: (f64, f64),
+    tolerance: Option<f64>,
+    order: Option<usize>,
+    sweep_time: Duration,
+) -> Result<BodyFit, String> {
+    if let Some(t) = tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(format!("--tol {t}: the tolerance must be finite and > 0"));
+        }
+    }
+    let (lo, hi) = band;
+    let inside = database
+        .omega
+        .iter()
+        .filter(|w| **w >= lo && **w <= hi)
+        .count();
+    if inside < 3 {
+        return Err(format!(
+            "the band {lo:.4} .. {hi:.4} rad/s holds {inside} of the {} frequencies ({:.4} .. \
+             {:.4} rad/s); at least 3 are needed (--band{})",
+            database.omega.len(),
+            database.omega.first().copied().unwrap_or(f64::NAN),
+            database.omega.last().copied().unwrap_or(f64::NAN),
+            if database.body_panels.is_empty() {
+                ""
+            } else {
+                ", --omega"
+            }
+        ));
+    }
+    let start = Instant::now();
+    let report = identify::fit(
+        &database.response(),
+        &FitParams {
+            band: (lo, hi),
+            tolerance,
+            order,
+            ..FitParams::default()
+        },
+    )
+    .map_err(|e| format!("{}: the fit failed: {e}", database.name))?;
+    Ok(BodyFit {
+        database,
+        description,
+        appendix,
+        band,
+        fit: report,
+        times: (sweep_time, start.elapsed()),
+    })
+}
+
+/// The fit in words, for the terminal and the archive's documentation.
+pub fn fit_text(f: &BodyFit) -> String {
+    let fit = &f.fit;
+    let db = &f.database;
+    let mut text = format!(
+        "{}\nDOFs {}\nband {:.4} .. {:.4} rad/s ({} of {} frequencies)\n\
+         network: {}, order {}, {} states\n\
+         largest error {:.3} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {})\n\
+         sweep {:.2} s, fit {:.2} s",
+        f.description,
+        db.dof_names.join(" "),
+        f.band.0,
+        f.band.1,
+        db.omega
+            .iter()
+            .filter(|w| **w >= f.band.0 && **w <= f.band.1)
+            .count(),
+        db.omega.len(),
+        fit.network.form,
+        fit.order,
+        fit.states,
+        100.0 * fit.max_relative_error,
+        100.0 * fit.tolerance,
+        if fit.tolerance_met { "met" } else { "NOT met" },
+        f.times.0.as_secs_f64(),
+        f.times.1.as_secs_f64(),
+    );
+    for note in &db.notes {
+        text.push_str(&format!("\nnote: {note}"));
+    }
+    for (omega, reason) in &db.failures {
+        text.push_str(&format!(
+            "\nleft out: omega = {} rad/s: {reason}",
+            format_number(*omega, Notation::Plain)
+        ));
+    }
+    if !f.appendix.is_empty() {
+        text.push('\n');
+        text.push_str(f.appendix.trim_end());
+    }
+    text
+}
+
+/// Packs a whole body's fit into one FMU.
+pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError> {
+    if args.network.is_some() {
+        return Err(PackError(
+            "--network applies to a section; a whole body's network is fitted to its data".into(),
+        ));
+    }
+    let text = fit_text(fitted);
+    if !fitted.fit.tolerance_met && !args.allow_tolerance_miss {
+        return Err(PackError(format!(
+            "the fit misses the tolerance; no archive written. Try another --order or a \
+             narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
+        )));
+    }
+    let db = &fitted.database;
+    let excitation_csv = if db.excitation.is_empty() {
+        None
+    } else {
+        let mut excitation = Vec::new();
+        db.write_excitation_table(&mut excitation)
+            .map_err(|e| format!("cannot format the excitation table: {e}"))?;
+        Some(String::from_utf8_lossy(&excitation).into_owned())
+    };
+    let mut name = db.name.clone();
+    if let Some(first) = name.get_mut(0..1) {
+        first.make_ascii_uppercase();
+    }
+    let body = HullInfo {
+        name,
+        dofs: db.dof_units.clone(),
+        xml: None,
+        extent: Extent::WholeBody,
+        hydrostatics_csv: Some(db.hydrostatics_table().to_csv(&db.name, "whole body")),
+        excitation_csv,
+        report: Some(text.clone()),
+    };
+    let binary = locate_binary(args.binary.as_deref())?;
+    let identifier = match &args.model_identifier {
+        Some(id) => id.clone(),
+        None => crate::pack::identifier_from_path(&args.output),
+    };
+    let network = PackedNetwork::from_network(fitted.fit.network.clone());
+    let mut summary = pack_network(
+        &body,
+        &network,
+        args.keep_inf_mass,
+        &binary,
+        &identifier,
+        &args.output,
+        None,
+    )?;
+    summary.fit = Some(text.replace('\n', "; "));
+    Ok(summary)
+}
