@@ -425,3 +425,56 @@ fn fuzz_restoring_tables() {
         Ok(true)
     });
 }
+
+/// The three WAMIT files, each mutated beside the other two intact: whatever is accepted goes
+/// through the import's checks (spikes, A_inf, units) and comes out finite and consistent.
+#[test]
+fn fuzz_wamit_files() {
+    use hydrofmu::database::import::{finish, ImportParams};
+    use hydrofmu::database::wamit::{self, Source, WamitParams, WamitTexts};
+    let files = [
+        read("tests/data/wamit/sphere.1"),
+        read("tests/data/wamit/sphere.3"),
+        read("tests/data/wamit/sphere.hst"),
+    ];
+    for (which, name) in ["radiation", "excitation", "hydrostatics"]
+        .iter()
+        .enumerate()
+    {
+        let seeds = vec![files[which].clone()];
+        fuzz(&format!("wamit-{name}"), &seeds, 1, |text| {
+            let mut texts = files.clone();
+            texts[which] = text.to_string();
+            let sources = WamitTexts {
+                radiation: Source {
+                    name: "f.1",
+                    text: &texts[0],
+                },
+                excitation: Some(Source {
+                    name: "f.3",
+                    text: &texts[1],
+                }),
+                hydrostatics: Some(Source {
+                    name: "f.hst",
+                    text: &texts[2],
+                }),
+            };
+            let Ok(imported) = wamit::read("f", sources, &WamitParams::default()) else {
+                return Ok(false);
+            };
+            let mut db = imported.database;
+            if finish(&mut db, imported.added_mass_inf_given, &ImportParams::new()).is_err() {
+                return Ok(false);
+            }
+            let n = db.dof_names.len();
+            let consistent = db.omega.len() == db.added_mass.len()
+                && db.excitation.len() == db.omega.len()
+                && db.added_mass.iter().all(|m| m.shape() == (n, n))
+                && db.omega.windows(2).all(|w| w[0] < w[1]);
+            if !consistent || db.first_non_finite().is_some() {
+                return Err("accepted an inconsistent or non-finite database".into());
+            }
+            Ok(true)
+        });
+    }
+}

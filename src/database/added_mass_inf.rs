@@ -8,8 +8,9 @@
 //! grid's points, zero at `omega = 0` (a 3D body radiates no energy in infinitely long waves),
 //! and beyond the last point `b(omega_N) (omega_N / nu)^p` with `p` from the last two points
 //! (clamped to 1..8). The estimate is the median over the upper half of the grid (where
-//! `a - A_inf` is smallest), and its spread there (half the range) says how well the data
-//! fixes it; both are reported.
+//! `a - A_inf` is smallest). How well the data fixes it: the sum of the half range of the
+//! per-frequency estimates and the tail's share (the change when the damping is cut at
+//! `omega_N` instead); both are reported.
 
 use nalgebra::DMatrix;
 use num_complex::Complex64;
@@ -20,7 +21,8 @@ use std::f64::consts::PI;
 pub struct Estimate {
     /// `A_inf`, SI, symmetric.
     pub added_mass_inf: DMatrix<f64>,
-    /// Half the range of the per-frequency estimates used, per entry, SI.
+    /// The uncertainty per entry, SI: the per-frequency estimates' half range plus the tail's
+    /// share.
     pub spread: DMatrix<f64>,
     /// How many frequencies the median is over.
     pub frequencies_used: usize,
@@ -28,7 +30,7 @@ pub struct Estimate {
 
 /// `PV integral_0^inf b(nu) / (nu^2 - w^2) d nu` for `b` linear between `(nodes, values)`
 /// (`nodes[0] = 0`) and `b_N (w_N / nu)^p` beyond; `w` a node other than the last.
-fn principal_value(nodes: &[f64], values: &[f64], p: f64, w: f64) -> f64 {
+fn principal_value(nodes: &[f64], values: &[f64], p: Option<f64>, w: f64) -> f64 {
     // Antiderivative of (alpha + beta nu) / (nu^2 - w^2): F = [(alpha + beta w) ln|nu - w| -
     // (alpha - beta w) ln|nu + w|] / (2 w); the ln 0 terms at nu = w cancel between the two
     // segments meeting there (b is continuous), so they are left out.
@@ -44,6 +46,9 @@ fn principal_value(nodes: &[f64], values: &[f64], p: f64, w: f64) -> f64 {
         total += f(x1) - f(x0);
     }
     // Tail: nu = w_N / s, integral_0^1 b_N s^p w_N / (w_N^2 - w^2 s^2) ds (composite Gauss).
+    let Some(p) = p else {
+        return total;
+    };
     let last = nodes[nodes.len() - 1];
     let b_last = values[values.len() - 1];
     let pieces = 32;
@@ -103,19 +108,24 @@ pub fn estimate(omega: &[f64], added_mass: &[DMatrix<Complex64>]) -> Option<Esti
             values.push(0.0);
             values.extend_from_slice(&b);
             let p = tail_exponent(omega, &b);
-            let mut per_frequency: Vec<f64> = used
-                .iter()
-                .map(|&k| a[k] - 2.0 / PI * principal_value(&nodes, &values, p, omega[k]))
-                .collect();
-            per_frequency.sort_by(f64::total_cmp);
-            let m = per_frequency.len();
-            let median = if m % 2 == 1 {
-                per_frequency[m / 2]
-            } else {
-                (per_frequency[m / 2 - 1] + per_frequency[m / 2]) / 2.0
+            let estimates = |tail: Option<f64>| {
+                let mut per_frequency: Vec<f64> = used
+                    .iter()
+                    .map(|&k| a[k] - 2.0 / PI * principal_value(&nodes, &values, tail, omega[k]))
+                    .collect();
+                per_frequency.sort_by(f64::total_cmp);
+                let m = per_frequency.len();
+                let median = if m % 2 == 1 {
+                    per_frequency[m / 2]
+                } else {
+                    (per_frequency[m / 2 - 1] + per_frequency[m / 2]) / 2.0
+                };
+                (median, (per_frequency[m - 1] - per_frequency[0]) / 2.0)
             };
+            let (median, half_range) = estimates(Some(p));
+            let (without_tail, _) = estimates(None);
             estimate[(i, j)] = median;
-            spread[(i, j)] = (per_frequency[m - 1] - per_frequency[0]) / 2.0;
+            spread[(i, j)] = half_range + (median - without_tail).abs();
         }
     }
     let symmetric = (&estimate + estimate.transpose()) / 2.0;

@@ -191,21 +191,30 @@ pub fn finish(
         let estimate = added_mass_inf::estimate(&database.omega, &database.added_mass)
             .ok_or_else(|| DatabaseError::file(&file, "A_inf cannot be estimated".to_string()))?;
         let n = database.dof_names.len();
-        let worst = (0..n)
+        let per_dof: Vec<String> = (0..n)
             .map(|i| {
                 let scale = estimate.added_mass_inf[(i, i)].abs().max(f64::MIN_POSITIVE);
-                (estimate.spread[(i, i)] / scale, i)
+                format!(
+                    "{} {:.1} %",
+                    database.dof_names[i],
+                    100.0 * estimate.spread[(i, i)] / scale
+                )
             })
-            .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+            .collect();
         database.notes.push(format!(
             "A_inf estimated (no omega = inf rows) by the Kramers-Kronig relation from the \
-             damping, the median over {} frequencies; the per-frequency estimates spread by up to \
-             {:.2} % of A_inf ({})",
+             damping, the median over {} frequencies; uncertain by {} (the estimates' \
+             spread plus the share of the damping beyond the last frequency)",
             estimate.frequencies_used,
-            100.0 * worst.0,
-            database.dof_names[worst.1]
+            per_dof.join(", ")
         ));
         database.added_mass_inf = estimate.added_mass_inf;
+    }
+    if let Some(what) = database.first_non_finite() {
+        return Err(DatabaseError::file(
+            &file,
+            format!("{what} is not finite after the checks (values too large for their scale)"),
+        ));
     }
     check_units(database);
     Ok(())
@@ -245,7 +254,8 @@ fn symmetrize(database: &mut Database) {
 
 /// Mixed units show in long waves: the heave exciting force of the lowest frequency tends
 /// to the restoring `C_33` (the crest's hydrostatic pressure). Warns when they are a factor
-/// 2 apart while the waves are long (`k sqrt(A_wp) < 0.3`, `A_wp = C_33 / (rho g)`).
+/// 2 apart while the waves are long (`k sqrt(A_wp) < 0.3`, `A_wp` from the smaller of the two
+/// over `rho g`).
 fn check_units(database: &mut Database) {
     let Some(h) = database.dof_names.iter().position(|d| d == "heave") else {
         return;
@@ -257,12 +267,13 @@ fn check_units(database: &mut Database) {
     if c33 <= 0.0 {
         return;
     }
+    let largest = (0..x.ncols()).map(|b| x[(h, b)].norm()).fold(0.0, f64::max);
+    // The waterplane's size from the smaller of the two (either may be the wrong one).
     let k = omega * omega / database.g;
-    let breadth = (c33 / (database.rho * database.g)).sqrt();
+    let breadth = (c33.min(largest) / (database.rho * database.g)).sqrt();
     if k * breadth >= 0.3 {
         return;
     }
-    let largest = (0..x.ncols()).map(|b| x[(h, b)].norm()).fold(0.0, f64::max);
     let ratio = largest / c33;
     if !(0.5..=2.0).contains(&ratio) {
         database.warnings.push(format!(

@@ -119,6 +119,32 @@ fn readable(x: f64) -> String {
 }
 
 impl Database {
+    /// The first table holding a non-finite number, by name; `None` when all are finite.
+    pub fn first_non_finite(&self) -> Option<&'static str> {
+        let complex =
+            |m: &DMatrix<Complex64>| m.iter().all(|z| z.re.is_finite() && z.im.is_finite());
+        if !self.omega.iter().all(|w| w.is_finite()) {
+            Some("a frequency")
+        } else if !self.added_mass.iter().all(complex) {
+            Some("the added mass or damping")
+        } else if !self.added_mass_inf.iter().all(|x| x.is_finite()) {
+            Some("A_inf")
+        } else if !(self.excitation.iter().all(complex) && self.froude_krylov.iter().all(complex)) {
+            Some("the exciting force")
+        } else if !self
+            .excitation_long_wave
+            .iter()
+            .flatten()
+            .all(|x| x.is_finite())
+        {
+            Some("the long-wave exciting force")
+        } else if !self.stiffness_hydrostatic.iter().all(|x| x.is_finite()) {
+            Some("the hydrostatic restoring")
+        } else {
+            None
+        }
+    }
+
     /// The added mass in SI as the identification takes it.
     pub fn response(&self) -> crate::FrequencyResponse {
         crate::FrequencyResponse {

@@ -578,6 +578,12 @@ pub fn read(
         notes,
         body_panels: Vec::new(),
     };
+    if let Some(what) = database.first_non_finite() {
+        return Err(DatabaseError::file(
+            radiation_file,
+            format!("{what} is not finite in SI (a value too large for its scale)"),
+        ));
+    }
     Ok(ImportedWamit {
         database,
         added_mass_inf_given: added_mass_inf.is_some(),
