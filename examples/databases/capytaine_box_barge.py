@@ -74,15 +74,16 @@ FINE = (64, 16, 6)
 NAME = "box"
 
 
-def body(resolution=COARSE):
-    """The barge as a Capytaine FloatingBody (hull, lid, 6 rigid DOFs about the origin, centre
-    of gravity at the origin, displaced mass) with its hydrostatic stiffness attached."""
+def body(resolution=COARSE, lid=True):
+    """The barge as a Capytaine FloatingBody (hull, lid unless `lid` is False, 6 rigid DOFs
+    about the origin, centre of gravity at the origin, displaced mass) with its hydrostatic
+    stiffness attached."""
     import capytaine as cpt
 
     mesh = cpt.mesh_parallelepiped(size=(L, B, T), center=(0, 0, -T / 2), resolution=resolution,
                                    missing_sides={"top"}, reflection_symmetry=True, name=NAME)
-    lid = mesh.generate_lid(z=0.0)
-    hull = cpt.FloatingBody(mesh=mesh, lid_mesh=lid,
+    lid_mesh = mesh.generate_lid(z=0.0) if lid else None
+    hull = cpt.FloatingBody(mesh=mesh, lid_mesh=lid_mesh,
                             dofs=cpt.rigid_body_dofs(rotation_center=(0.0, 0.0, 0.0)),
                             center_of_mass=(0.0, 0.0, 0.0), name=NAME)
     exact = cpt.FloatingBody(mesh=mesh.with_quadrature("Gauss-Legendre 2"),
@@ -93,11 +94,11 @@ def body(resolution=COARSE):
     return hull
 
 
-def solve(resolution=COARSE):
+def solve(resolution=COARSE, lid=True):
     """The dataset (DOFs in the order of DOFS) and (hull panels, lid panels)."""
     import capytaine as cpt
 
-    hull = body(resolution)
+    hull = body(resolution, lid)
     omegas = [0.0, *OMEGAS, np.inf]
     problems = [cpt.RadiationProblem(body=hull, radiating_dof=d, omega=w, rho=RHO, g=G)
                 for w in omegas for d in DOFS]
@@ -110,7 +111,7 @@ def solve(resolution=COARSE):
     # Determinism: no wall-clock time stamps in the files.
     data.attrs = {k: v for k, v in data.attrs.items() if "computation" not in k
                   and "creation" not in k}
-    return data, (hull.mesh.nb_faces, hull.lid_mesh.nb_faces)
+    return data, (hull.mesh.nb_faces, hull.lid_mesh.nb_faces if lid else 0)
 
 
 def coefficients(data, panels, resolution):
@@ -174,10 +175,12 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("outdir", type=pathlib.Path)
     parser.add_argument("--fine", action="store_true", help="the fine mesh (64 x 16 x 6)")
+    parser.add_argument("--no-lid", action="store_true",
+                        help="no lid: the irregular frequencies stay in the data (2.06 rad/s)")
     args = parser.parse_args(argv)
     resolution = FINE if args.fine else COARSE
     start = time.perf_counter()
-    data, panels = solve(resolution)
+    data, panels = solve(resolution, lid=not args.no_lid)
     paths = write(data, panels, resolution, args.outdir)
     seconds = time.perf_counter() - start
     print(f"box barge {L:g} m x {B:g} m x {T:g} m, {panels[0]} hull + {panels[1]} lid panels, "

@@ -392,3 +392,88 @@ def test_a_regular_wave_gives_capytaines_exciting_force(box_fmu, database, headi
             bound = allowed / abs(expected[j])
             assert abs(abs(relative) / abs(expected[j]) - 1) <= bound, (heading, d, relative)
             assert abs(np.angle(relative / expected[j])) <= bound, (heading, d, relative)
+
+
+# ---------------------------------------------------------------------------------------------
+# Real data's troubles: no omega = inf rows, no lid
+
+
+def fmu_pack(binary, *args):
+    r = subprocess.run([str(binary), *map(str, args)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    return r
+
+
+def a_inf_table(path):
+    """The omega = inf rows of a `fmu-pack sweep` table: {(i, j): A_inf_ij}."""
+    out = {}
+    for line in path.read_text().splitlines():
+        if line.startswith("inf,"):
+            _, i, j, re, _ = line.split(",")
+            out[(int(i) - 1, int(j) - 1)] = float(re)
+    return out
+
+
+def test_a_missing_a_inf_is_estimated_within_its_stated_uncertainty_where_it_can_be(
+        fmu_pack_binary, database, tmp_path):
+    folder, _ = database
+    # The same files without the PER = 0 rows.
+    rows = (folder / "box.1").read_text().splitlines()
+    (tmp_path / "box.1").write_text(
+        "\n".join(r for r in rows if float(r.split()[0]) != 0.0) + "\n")
+    for ext in ("3", "hst"):
+        (tmp_path / f"box.{ext}").write_text((folder / f"box.{ext}").read_text())
+    r = fmu_pack(fmu_pack_binary, "sweep", tmp_path / "box.1", "-o", tmp_path / "t.csv")
+    note = next(line for line in r.stderr.splitlines() if "Kramers-Kronig" in line)
+    stated = {name: float(note.split(f" {name} ")[1].split(" %")[0]) / 100 for name in DOFS}
+    estimate = a_inf_table(tmp_path / "t.csv")
+    fmu_pack(fmu_pack_binary, "sweep", folder / "box.1", "-o", tmp_path / "given.csv")
+    given = a_inf_table(tmp_path / "given.csv")
+    error = {name: abs(estimate[(k, k)] - given[(k, k)]) / given[(k, k)]
+             for k, name in enumerate(DOFS)}
+    # Measured against Capytaine's own omega = inf solve: heave 1.2 %, roll 0.3 %, pitch 0.9 %
+    # (stated 1.0, 1.3, 0.6 %: the statement is the right size, not a bound); surge 1.7 %,
+    # sway 4.9 %, yaw 21 %, where the grid ends (kL = 25) before their damping has decayed and
+    # the statement says so (36 %, 37 %, 71 %).
+    for name in ("heave", "roll", "pitch"):
+        assert error[name] < 0.02, (name, error, stated)
+        assert stated[name] < 0.03, (name, stated)
+    for name in ("surge", "sway", "yaw"):
+        assert error[name] < stated[name], (name, error, stated)
+        assert stated[name] > 0.1, (name, stated)
+
+
+@pytest.fixture(scope="module")
+def without_lid(tmp_path_factory):
+    out = tmp_path_factory.mktemp("capytaine-box-no-lid")
+    r = subprocess.run([sys.executable, str(SCRIPT), str(out), "--no-lid"], capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    return out
+
+
+def fit_error(report):
+    line = next(x for x in report.splitlines() if x.startswith("largest error"))
+    return float(line.split()[2]) / 100
+
+
+def test_without_a_lid_the_irregular_frequency_is_found_and_kept_out_of_the_fit(
+        fmu_pack_binary, database, without_lid):
+    # Without a lid the first irregular frequency of the 40 x 10 x 3 m box, 2.06 rad/s, shows
+    # at the grid's 2.1 rad/s (pitch damping 53 % of its scale off the lid's value, negative
+    # damping); it is the one frequency left out, and none of the lid's data is.
+    r = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1")
+    left_out = [x for x in r.stdout.splitlines() if x.startswith("left out:")]
+    assert len(left_out) == 1, r.stdout
+    assert "omega = 2.1" in left_out[0] and "irregular-frequency spike" in left_out[0]
+    clean = fmu_pack(fmu_pack_binary, "fit", database[0] / "box.1")
+    assert not [x for x in clean.stdout.splitlines() if x.startswith("left out:")], clean.stdout
+    # Kept in (--plain), the spike wrecks the fit (measured 35 %); left out, the rest of the
+    # irregular frequency's broad influence (a few % at 2.0 .. 2.5 rad/s on this coarse mesh)
+    # still misses the 1 % tolerance (measured 2.2 %): the report says NOT met, and a band
+    # below 1.95 rad/s meets it (0.8 %).
+    kept = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1", "--plain")
+    assert fit_error(kept.stdout) > 0.10, kept.stdout
+    assert 0.01 < fit_error(r.stdout) < 0.03 and "NOT met" in r.stdout, r.stdout
+    below = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1", "--band", "0.2:1.95rad/s")
+    assert fit_error(below.stdout) < 0.01, below.stdout
