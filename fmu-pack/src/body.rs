@@ -170,7 +170,7 @@ pub fn fit_text(f: &BodyFit) -> String {
         "{}\nDOFs {}\nband {:.4} .. {:.4} rad/s ({} of {} frequencies)\n\
          network: {}, order {}, {} states\n\
          largest error {:.3} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {})\n\
-         sweep {:.2} s, fit {:.2} s",
+         {} {:.2} s, fit {:.2} s",
         f.description,
         db.dof_names.join(" "),
         f.band.0,
@@ -186,6 +186,11 @@ pub fn fit_text(f: &BodyFit) -> String {
         100.0 * fit.max_relative_error,
         100.0 * fit.tolerance,
         if fit.tolerance_met { "met" } else { "NOT met" },
+        if db.body_panels.is_empty() {
+            "import"
+        } else {
+            "sweep"
+        },
         f.times.0.as_secs_f64(),
         f.times.1.as_secs_f64(),
     );

@@ -127,11 +127,7 @@ pub fn fit(
     for warning in &database.warnings {
         crate::output::stderr_line(&format!("warning: {warning}"));
     }
-    let description = format!(
-        "database {} ({})",
-        database.name,
-        summary(&database, elapsed)
-    );
+    let description = format!("database {}", summary(&database, elapsed));
     body::fit(
         database,
         description,

@@ -493,14 +493,13 @@ pub fn read(
     let rho = params.rho;
     let mut notes = Vec::new();
     let mut added_mass = Vec::with_capacity(count);
-    for (omega, bits) in &omegas {
+    for (_, bits) in &omegas {
         let mut a = DMatrix::<Complex64>::zeros(n, n);
         for (&(i, j), &(abar, bbar, _)) in &radiation.finite[bits] {
             let scale = rho * l.powi(exponent(i, j));
             // A~ = A - i B / omega with B = Bbar rho omega L^k.
             a[(position[&i], position[&j])] = Complex64::new(abar * scale, -bbar * scale);
         }
-        let _ = omega;
         added_mass.push(a);
     }
     let limit = |map: &BTreeMap<PairKey, (f64, usize)>| {
@@ -707,7 +706,7 @@ fn read_excitation(
                 ),
             ));
         }
-        if !headings.iter().any(|h| *h == beta) {
+        if !headings.contains(&beta) {
             if headings.len() == super::MAX_HEADINGS {
                 return Err(rows.error(
                     line,
