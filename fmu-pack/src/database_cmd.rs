@@ -1,6 +1,6 @@
-//! `fmu-pack sweep|fit|pack NAME.1`: an imported 3D database (WAMIT files, as WAMIT,
-//! Capytaine's `export_to_wamit`, BEMRosetta or HAMS write them) to the whole-body tables, fit
-//! and FMU (docs/DATABASES.md).
+//! `fmu-pack sweep|fit|pack NAME.1|NAME.nc`: an imported 3D database (WAMIT files, as WAMIT,
+//! Capytaine's `export_to_wamit`, BEMRosetta or HAMS write them, or a Capytaine NetCDF-3
+//! dataset) to the whole-body tables, fit and FMU (docs/DATABASES.md).
 
 use crate::body::{self, BodyFit};
 use crate::pack::{PackArgs, PackError, PackSummary};
@@ -12,7 +12,8 @@ use hydrofmu::scene::Band;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// True when `argument` names a database file by its extension (`.1`).
+/// True when `argument` names a database file by its extension (`.1`, or `.nc` for a
+/// Capytaine NetCDF-3 dataset).
 pub fn is_database_file(argument: &str) -> bool {
     import::is_database_path(Path::new(argument))
 }

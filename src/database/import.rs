@@ -1,9 +1,11 @@
-//! From files on disk to a [`Database`] ready to fit: the companions found beside the named
-//! file, reciprocity (symmetrized, the asymmetry reported), irregular-frequency spikes
-//! removed ([`super::irregular`]), `A_inf` estimated when the files give none
-//! ([`super::added_mass_inf`]), and sanity checks of units.
+//! From files on disk to a [`Database`] ready to fit: a WAMIT file set (`NAME.1` and the
+//! companions found beside it, [`super::wamit`]) or a Capytaine NetCDF-3 dataset (`NAME.nc`,
+//! [`super::capytaine`]); then, whatever the format, reciprocity (symmetrized, the asymmetry
+//! reported), irregular-frequency spikes removed ([`super::irregular`]), `A_inf` estimated
+//! when the files give none ([`super::added_mass_inf`]), and sanity checks of units.
 
 use super::added_mass_inf;
+use super::capytaine;
 use super::irregular::{self, SpikeParams};
 use super::wamit::{self, Source, WamitParams, WamitTexts};
 use super::{Database, DatabaseError};
@@ -30,13 +32,21 @@ impl ImportParams {
     }
 }
 
-/// Whether `path` names a database file this module reads (by its extension: `.1`).
+/// Whether `path` names a database file this module reads (by its extension: `.1`, or `.nc`
+/// in any case).
 pub fn is_database_path(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e == "1")
+    path.extension()
+        .is_some_and(|e| e == "1" || e.eq_ignore_ascii_case("nc"))
 }
 
-/// Reads a file of at most `limit` bytes, refusing larger ones before reading.
-fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
+/// Whether `path` names a Capytaine NetCDF dataset (`.nc`).
+fn is_netcdf_path(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("nc"))
+}
+
+/// The bytes of a file of at most `limit` bytes, refusing larger ones before reading.
+fn read_bounded_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, DatabaseError> {
     let name = path.display().to_string();
     let meta = std::fs::metadata(path).map_err(|e| DatabaseError::file(&name, e.to_string()))?;
     if !meta.is_file() {
@@ -48,7 +58,13 @@ fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
             format!("{} bytes, more than the {limit} accepted", meta.len()),
         ));
     }
-    let bytes = std::fs::read(path).map_err(|e| DatabaseError::file(&name, e.to_string()))?;
+    std::fs::read(path).map_err(|e| DatabaseError::file(&name, e.to_string()))
+}
+
+/// Reads a text file of at most `limit` bytes, refusing larger ones before reading.
+fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
+    let name = path.display().to_string();
+    let bytes = read_bounded_bytes(path, limit)?;
     String::from_utf8(bytes).map_err(|e| {
         DatabaseError::file(
             &name,
@@ -68,12 +84,17 @@ fn companion(path: &Path, ext: &str) -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
-/// Imports the WAMIT file set of `path` (`NAME.1`, with `NAME.3` and `NAME.hst` beside it
-/// when present).
+/// Imports the database of `path`: a Capytaine dataset (`NAME.nc`, [`capytaine::read`]) or
+/// the WAMIT file set (`NAME.1`, with `NAME.3` and `NAME.hst` beside it when present), then
+/// [`finish`].
 ///
 /// # Errors
-/// Missing or malformed files ([`wamit::read`]), or data left unusable after the checks.
+/// Missing or malformed files ([`wamit::read`], [`capytaine::read`]), or data left unusable
+/// after the checks.
 pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseError> {
+    if is_netcdf_path(path) {
+        return import_netcdf(path, params);
+    }
     let radiation_text = read_bounded(path, wamit::MAX_FILE_BYTES)?;
     let excitation_path = companion(path, "3");
     let hydrostatics_path = companion(path, "hst");
@@ -128,6 +149,20 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
             names[0]
         ));
     }
+    finish(&mut database, imported.added_mass_inf_given, params)?;
+    Ok(database)
+}
+
+/// Imports a Capytaine NetCDF-3 dataset.
+fn import_netcdf(path: &Path, params: &ImportParams) -> Result<Database, DatabaseError> {
+    let bytes = read_bounded_bytes(path, wamit::MAX_FILE_BYTES)?;
+    let name = path.display().to_string();
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "body".to_string());
+    let imported = capytaine::read(&stem, bytes, &name, &params.wamit)?;
+    let mut database = imported.database;
     finish(&mut database, imported.added_mass_inf_given, params)?;
     Ok(database)
 }

@@ -12,6 +12,7 @@
 //! identification fits.
 
 pub mod added_mass_inf;
+pub mod capytaine;
 pub mod import;
 pub mod irregular;
 pub mod wamit;
