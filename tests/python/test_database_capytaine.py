@@ -477,3 +477,36 @@ def test_without_a_lid_the_irregular_frequency_is_found_and_kept_out_of_the_fit(
     assert 0.01 < fit_error(r.stdout) < 0.03 and "NOT met" in r.stdout, r.stdout
     below = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1", "--band", "0.2:1.95rad/s")
     assert fit_error(below.stdout) < 0.01, below.stdout
+
+
+def sweep_rows(path):
+    """`fmu-pack sweep` rows: {(omega, i, j or heading): complex}, omega to 5 decimals (the
+    WAMIT periods' 7 digits)."""
+    out = {}
+    for line in path.read_text().splitlines():
+        if line.startswith("#") or line[0].isalpha():
+            continue
+        w, i, j, re, im = line.split(",")
+        out[(round(float(w), 5), int(i), float(j))] = complex(float(re), float(im))
+    return out
+
+
+def test_capytaines_netcdf_and_its_wamit_export_import_alike(fmu_pack_binary, database,
+                                                              tmp_path):
+    # The same dataset read twice: box.nc (NetCDF-3, Capytaine's own convention, conjugated on
+    # reading) and box.1/.3/.hst (7 digits). Equal to the files' digits: 2e-6 of the entry
+    # scale sqrt(|A_ii A_jj|) (measured 3e-7) and of the DOF's largest exciting force.
+    folder, _ = database
+    tables = {}
+    for name in ("box.nc", "box.1"):
+        out, x = tmp_path / f"{name}.csv", tmp_path / f"{name}-x.csv"
+        fmu_pack(fmu_pack_binary, "sweep", folder / name, "-o", out, "--excitation", x)
+        tables[name] = (sweep_rows(out), sweep_rows(x))
+    (nc, nc_x), (wamit, wamit_x) = tables["box.nc"], tables["box.1"]
+    assert nc.keys() == wamit.keys() and nc_x.keys() == wamit_x.keys()
+    scale = {i: max(abs(v) for (w, a, b), v in nc.items() if a == b == i) for i in range(1, 7)}
+    for (w, i, j), v in nc.items():
+        assert abs(v - wamit[(w, i, j)]) <= 2e-6 * math.sqrt(scale[i] * scale[j]), (w, i, j)
+    largest = {j: max(abs(v) for (w, jj, h), v in nc_x.items() if jj == j) for j in range(1, 7)}
+    for (w, j, h), v in nc_x.items():
+        assert abs(v - wamit_x[(w, j, h)]) <= 2e-6 * largest[j], (w, j, h)
