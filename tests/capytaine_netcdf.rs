@@ -343,8 +343,11 @@ fn a_dataset_maps_to_our_conventions() {
             assert!(close(db.stiffness_hydrostatic[(i, j)], stiffness(i, j) * s));
         }
     }
-    // The long-wave limit is the heave column of the restoring.
-    let long_wave = db.excitation_long_wave.as_ref().unwrap();
+    // The long-wave limit is the heave column of the restoring, set by the import's checks.
+    assert!(db.excitation_long_wave.is_none());
+    let mut finished = db.clone();
+    import::finish(&mut finished, true, &ImportParams::new()).unwrap();
+    let long_wave = finished.excitation_long_wave.as_ref().unwrap();
     assert!(close(long_wave[1], stiffness(1, 0) * s));
 }
 

@@ -98,23 +98,18 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
                 "{flag} is not yet available for ship files and imported databases"
             ));
         }
-        let fitted = if imported {
-            crate::database_cmd::fit(
-                &args.sweep,
-                args.band.as_deref(),
-                args.tolerance,
-                args.order,
-                args.max_step,
-            )?
+        let fit = if imported {
+            crate::database_cmd::fit
         } else {
-            crate::ship_cmd::fit(
-                &args.sweep,
-                args.band.as_deref(),
-                args.tolerance,
-                args.order,
-                args.max_step,
-            )?
+            crate::ship_cmd::fit
         };
+        let fitted = fit(
+            &args.sweep,
+            args.band.as_deref(),
+            args.tolerance,
+            args.order,
+            args.max_step,
+        )?;
         if let Some(path) = &args.network_out {
             crate::output::file(path, fitted.fit.network.to_xml_string().as_bytes())?;
         }

@@ -1005,13 +1005,6 @@ fn convert(
         (Vec::new(), Vec::new(), Vec::new())
     };
 
-    let heave = dof_names.iter().position(|d| d == "heave");
-    let excitation_long_wave = match (has_hydrostatics, heave, headings.is_empty()) {
-        // A crest of height a lifts the pressure by rho g a everywhere: the force of a body
-        // moved down by a, -C_j3 (-a) (DESIGN.md, "Waves and hydrostatics").
-        (true, Some(h), false) => Some((0..n).map(|j| stiffness[(j, h)]).collect()),
-        _ => None,
-    };
     let database = Database {
         name: name.to_string(),
         source: format!("imported from a Capytaine dataset ({file})"),
@@ -1027,7 +1020,8 @@ fn convert(
         headings,
         excitation,
         froude_krylov,
-        excitation_long_wave,
+        // Set from the restoring by import::finish.
+        excitation_long_wave: None,
         stiffness_hydrostatic: stiffness,
         reference_length: 1.0,
         failures: Vec::new(),

@@ -547,13 +547,6 @@ pub fn read(
         .collect();
     let added_mass = keep(added_mass);
     let excitation = keep(excitation);
-    let heave = modes.iter().position(|&m| m == 3);
-    let excitation_long_wave = match (&stiffness, heave, headings.is_empty()) {
-        // A crest of height a lifts the pressure by rho g a everywhere: the force of a body
-        // moved down by a, -C_j3 (-a) (DESIGN.md, "Waves and hydrostatics").
-        (Some(c), Some(h), false) => Some((0..n).map(|j| c[(j, h)]).collect()),
-        _ => None,
-    };
     let database = Database {
         name: name.to_string(),
         source: format!("imported from WAMIT files ({radiation_file})"),
@@ -569,7 +562,8 @@ pub fn read(
         headings,
         excitation,
         froude_krylov: Vec::new(),
-        excitation_long_wave,
+        // Set from the restoring by import::finish.
+        excitation_long_wave: None,
         stiffness_hydrostatic: stiffness.unwrap_or_else(|| DMatrix::zeros(n, n)),
         reference_length: l,
         failures: Vec::new(),
