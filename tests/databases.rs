@@ -471,3 +471,66 @@ fn a_missing_a_inf_is_estimated_and_said_so() {
     let truth = given[(HEAVE, HEAVE)];
     assert!(close(estimate, truth, 0.05), "{estimate} vs {truth}");
 }
+
+/// The sphere's `.1` and `.3` with the first column in rad/s (WAMIT's IPEROUT = 2; the limits
+/// as HAMS writes them: 0 is omega = 0, -1 is omega = inf), and a `.cfg` saying so.
+fn in_rad_per_second(tag: &str, cfg: &str) -> PathBuf {
+    let path = files(tag, |ext, text| {
+        Some(if ext == "hst" {
+            text
+        } else {
+            text.lines()
+                .map(|l| {
+                    let mut f: Vec<String> = l.split_whitespace().map(str::to_string).collect();
+                    match f.first().and_then(|x| x.parse::<f64>().ok()) {
+                        Some(per) => {
+                            f[0] = match per {
+                                -1.0 => "0".to_string(),
+                                0.0 => "-1".to_string(),
+                                t => format!("{:.9E}", 2.0 * PI / t),
+                            };
+                            f.join(" ")
+                        }
+                        None => l.to_string(),
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("\n")
+        })
+    });
+    std::fs::write(path.with_extension("cfg"), cfg).unwrap();
+    path
+}
+
+#[test]
+fn the_cfg_beside_the_files_says_what_the_first_column_holds() {
+    let plain = sphere();
+    let path = in_rad_per_second("cfg", "IPERIN=2\nIPEROUT=2   ! output in rad/s\nNUMHDR=1\n");
+    let db = import::import(&path, &params()).unwrap();
+    assert!(db
+        .notes
+        .iter()
+        .any(|n| n.contains("sphere.cfg") && n.contains("rad/s")));
+    for (a, b) in db.omega.iter().zip(&plain.omega) {
+        assert!(close(*a, *b, 1e-9));
+    }
+    // The values are the same (the periods' 7 digits make the damping's omega differ by 1e-7).
+    for (a, b) in db.added_mass.iter().zip(&plain.added_mass) {
+        assert!((a - b).norm() <= 1e-6 * b.norm());
+    }
+    assert_eq!(db.added_mass_inf, plain.added_mass_inf);
+    // Without the cfg's word the rad/s column reads as periods: a different database.
+    let blind = ImportParams {
+        read_cfg: false,
+        ..params()
+    };
+    let wrong = import::import(&path, &blind).unwrap();
+    assert!(!close(wrong.omega[0], plain.omega[0], 1e-3));
+    // A wavenumber column is refused, naming the cfg's line.
+    let path = in_rad_per_second("cfg-kl", "ILOG=1\nIPEROUT=3\n");
+    let e = import::import(&path, &params()).unwrap_err().to_string();
+    assert!(
+        e.contains("sphere.cfg:2:") && e.contains("wavenumber"),
+        "{e}"
+    );
+}

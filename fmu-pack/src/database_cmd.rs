@@ -52,6 +52,8 @@ fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
                 ))
             }
         };
+        // Given on the command line, it wins over a NAME.cfg beside the files.
+        params.read_cfg = false;
     }
     params.wamit.conjugate = args.conjugate;
     if args.plain {

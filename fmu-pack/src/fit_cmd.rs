@@ -88,11 +88,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         None
     };
     if let Some(imported) = whole_body {
-        let unsupported = [
-            ("--form", args.form.is_some()),
-            ("--plots", args.plots.is_some()),
-            ("--json", args.json),
-        ];
+        let unsupported = [("--form", args.form.is_some()), ("--json", args.json)];
         if let Some((flag, _)) = unsupported.iter().find(|(_, given)| *given) {
             return Err(format!(
                 "{flag} is not yet available for ship files and imported databases"
@@ -112,6 +108,16 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         )?;
         if let Some(path) = &args.network_out {
             crate::output::file(path, fitted.fit.network.to_xml_string().as_bytes())?;
+        }
+        if let Some(dir) = &args.plots {
+            let source = if imported { "database" } else { "strip theory" };
+            let figures = fit_plots(
+                &fitted.database.response(),
+                &fitted.fit,
+                source,
+                ("omega (rad/s)", &|omega| omega),
+            );
+            write_figures(figures, dir)?;
         }
         return crate::output::stdout(format!("{}\n", crate::body::fit_text(&fitted)).as_bytes());
     }
@@ -319,9 +325,17 @@ fn number(x: f64) -> String {
 /// One SVG per matrix entry i <= j whose scale is nonzero, written into `dir`. Returns the
 /// file names written.
 pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, String> {
+    write_figures(plots(built), dir)
+}
+
+/// Writes `(file name, SVG)` pairs into `dir` (created); the names written.
+pub fn write_figures(
+    figures: Vec<(String, String)>,
+    dir: &std::path::Path,
+) -> Result<Vec<String>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let mut written = Vec::new();
-    for (name, svg) in plots(built) {
+    for (name, svg) in figures {
         std::fs::write(dir.join(&name), svg)
             .map_err(|e| format!("cannot write {}: {e}", dir.join(&name).display()))?;
         written.push(name);
@@ -333,20 +347,35 @@ pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, 
 /// scale is nonzero: data (markers) and network (lines), real and imaginary parts, against kR.
 /// Returns `(file name, SVG text)` pairs.
 pub fn plots(built: &Built) -> Vec<(String, String)> {
-    let response = &built.response.fitted;
     let radius = built.sweep.reference_half_beam;
-    let g = response.g;
-    let kr = |omega: f64| units::kr_from_omega(omega, radius, g);
+    let g = built.response.fitted.g;
+    fit_plots(
+        &built.response.fitted,
+        &built.fit,
+        "panel method",
+        ("kR", &|omega| units::kr_from_omega(omega, radius, g)),
+    )
+}
+
+/// [`plots`] for any fitted response: `source` names the data, `axis` the x axis (its label
+/// and its value at a frequency in rad/s; logarithmic).
+pub fn fit_plots(
+    response: &hydrofmu::FrequencyResponse,
+    fit: &hydrofmu::identify::FitReport,
+    source: &str,
+    axis: (&str, &dyn Fn(f64) -> f64),
+) -> Vec<(String, String)> {
+    let (label, x) = axis;
     let names = &response.dof_names;
     let mut out = Vec::new();
     for i in 0..names.len() {
         for j in i..names.len() {
-            if built.fit.error_scale[(i, j)] <= 0.0 {
+            if fit.error_scale[(i, j)] <= 0.0 {
                 continue;
             }
             let mut figure = Figure::new(
-                &format!("A~({}, {}): panel method and network", names[i], names[j]),
-                "kR",
+                &format!("A~({}, {}): {source} and network", names[i], names[j]),
+                label,
                 "A~ (SI)",
             );
             figure.x_scale = Scale::Log;
@@ -355,28 +384,28 @@ pub fn plots(built: &Built) -> Vec<(String, String)> {
                     .omega
                     .iter()
                     .zip(&response.added_mass)
-                    .map(|(&w, m)| (kr(w), part(m[(i, j)])))
+                    .map(|(&w, m)| (x(w), part(m[(i, j)])))
                     .collect::<Vec<_>>()
             };
             let model = |part: fn(num_complex::Complex64) -> f64| {
                 response
                     .omega
                     .iter()
-                    .map(|&w| (kr(w), part(built.fit.network.added_mass_tf(w)[(i, j)])))
+                    .map(|&w| (x(w), part(fit.network.added_mass_tf(w)[(i, j)])))
                     .collect::<Vec<_>>()
             };
-            figure.add("Re, panel method", data(|z| z.re), Style::Markers);
+            figure.add(&format!("Re, {source}"), data(|z| z.re), Style::Markers);
             figure.add("Re, network", model(|z| z.re), Style::Line);
-            figure.add("Im, panel method", data(|z| z.im), Style::Markers);
+            figure.add(&format!("Im, {source}"), data(|z| z.im), Style::Markers);
             figure.add("Im, network", model(|z| z.im), Style::Line);
             figure.series[1].colour = 0;
             figure.series[2].colour = 1;
             figure.series[3].colour = 1;
-            let (b0, b1) = built.fit.band;
+            let (b0, b1) = fit.band;
             figure.caption = format!(
-                "fit band kR {:.3} .. {:.3}; {}",
-                kr(b0),
-                kr(b1),
+                "fit band {label} {:.3} .. {:.3}; {}",
+                x(b0),
+                x(b1),
                 plot::provenance("fmu-pack")
             );
             out.push((

@@ -64,7 +64,8 @@ pub struct HullSweepArgs {
     #[arg(long, value_name = "METRES")]
     pub length_scale: Option<f64>,
     /// Imported WAMIT files only: what their first column holds: `period` (s, WAMIT's
-    /// default), `omega` (rad/s) or `hz`.
+    /// default), `omega` (rad/s) or `hz` (default: what `NAME.cfg` beside them declares with
+    /// `IPEROUT`, else the period).
     #[arg(long, value_name = "period|omega|hz")]
     pub frequency_column: Option<String>,
     /// Imported files only: their exciting force is in exp(-i omega t) (older HAMS builds):

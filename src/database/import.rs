@@ -14,20 +14,30 @@ use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 
 /// How to import, with documented defaults.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ImportParams {
     /// How to read WAMIT files.
     pub wamit: WamitParams,
     /// The spike search; `None` keeps every frequency.
     pub spikes: Option<SpikeParams>,
+    /// Take the first column's meaning from WAMIT's `NAME.cfg` beside the files when it
+    /// declares one (`IPEROUT`), over [`WamitParams::frequency_column`]. Default true.
+    pub read_cfg: bool,
+}
+
+impl Default for ImportParams {
+    fn default() -> Self {
+        ImportParams::new()
+    }
 }
 
 impl ImportParams {
-    /// Defaults with the spike search on.
+    /// The defaults: WAMIT's, the spike search on, `NAME.cfg` read.
     pub fn new() -> ImportParams {
         ImportParams {
             wamit: WamitParams::default(),
             spikes: Some(SpikeParams::default()),
+            read_cfg: true,
         }
     }
 }
@@ -133,8 +143,31 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "body".to_string());
-    let imported = wamit::read(&stem, texts, &params.wamit)?;
+    let mut wamit_params = params.wamit.clone();
+    let mut cfg_note = None;
+    if params.read_cfg {
+        if let Some(cfg) = companion(path, "cfg") {
+            let name = cfg.display().to_string();
+            let text = read_bounded(&cfg, wamit::MAX_FILE_BYTES)?;
+            if let Some(column) = wamit::frequency_column_of_cfg(Source {
+                name: &name,
+                text: &text,
+            })? {
+                wamit_params.frequency_column = column;
+                cfg_note = Some(format!(
+                    "{name} declares the first column: {}",
+                    match column {
+                        wamit::FrequencyColumn::Period => "the period (s)",
+                        wamit::FrequencyColumn::RadPerSecond => "omega (rad/s)",
+                        wamit::FrequencyColumn::Hertz => "the frequency (Hz)",
+                    }
+                ));
+            }
+        }
+    }
+    let imported = wamit::read(&stem, texts, &wamit_params)?;
     let mut database = imported.database;
+    database.notes.extend(cfg_note);
     if !imported.has_excitation {
         database.warnings.push(format!(
             "no {} beside {}: no exciting force (the FMU's wave.kind must stay 0)",

@@ -68,6 +68,52 @@ pub enum FrequencyColumn {
     Hertz,
 }
 
+/// The first column WAMIT's configuration file `NAME.cfg` declares (`IPEROUT=n`, or `IPERIO=n`
+/// for input and output alike): `None` when it declares none (WAMIT's default, the period).
+///
+/// # Errors
+/// A declared column this reader does not take (3 and 4: nondimensional wavenumbers), or an
+/// unreadable value, naming the line.
+pub fn frequency_column_of_cfg(source: Source) -> Result<Option<FrequencyColumn>, DatabaseError> {
+    let mut found = None;
+    for (index, line) in source.text.lines().enumerate() {
+        let Some((key, value)) = line.split_once('=') else {
+            continue;
+        };
+        let key = key.trim().to_ascii_uppercase();
+        if key != "IPEROUT" && key != "IPERIO" {
+            continue;
+        }
+        let token = value.split_whitespace().next().unwrap_or("");
+        let column = match token {
+            "1" => FrequencyColumn::Period,
+            "2" => FrequencyColumn::RadPerSecond,
+            "3" | "4" => {
+                return Err(DatabaseError::at(
+                    source.name,
+                    index + 1,
+                    format!(
+                        "{key}={token}: the first column is a nondimensional wavenumber, which \
+                         this reader does not take; rerun WAMIT with {key}=1 (period) or 2 (rad/s)"
+                    ),
+                ))
+            }
+            _ => {
+                return Err(DatabaseError::at(
+                    source.name,
+                    index + 1,
+                    format!("{key}='{token}': expected 1 (period) or 2 (rad/s)"),
+                ))
+            }
+        };
+        // IPEROUT wins over IPERIO.
+        if key == "IPEROUT" || found.is_none() {
+            found = Some(column);
+        }
+    }
+    Ok(found)
+}
+
 /// How to read a WAMIT file set, with documented defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WamitParams {
