@@ -194,7 +194,7 @@ pub fn fit_text(f: &BodyFit) -> String {
         f.times.0.as_secs_f64(),
         f.times.1.as_secs_f64(),
     );
-    for note in &db.notes {
+    for note in fit.notes.iter().chain(&db.notes) {
         text.push_str(&format!("\nnote: {note}"));
     }
     for (omega, reason) in &db.failures {
