@@ -49,8 +49,10 @@ a damping that the fit (1 % of |A~|) does not resolve. So (1) no beam-sea freque
 0.8 .. 1.1 rad/s, and (2) the fit takes out the free modes that have not died out by the window:
 the eigenvalues lambda of the coupled body + network (seed eq. 19) with Im lambda > 0 and
 exp(Re lambda t_window) > 1e-6, as terms Re[d e^(lambda t)] beside the wave's harmonic (a linear
-system's response is exactly the steady harmonic plus its modes). In head seas (symmetric body)
-roll is not excited and the basis holds no such mode.
+system's response is exactly the steady harmonic plus its modes). Only the roll mode (0.948 rad/s,
+damping ratio 1.6e-3 in the network) qualifies; in head seas the symmetric body does not roll and
+its term fits nothing. Without it the beam-sea roll RAO is off by 1.3e-3 of the largest, with it
+by 4.7e-5.
 """
 from __future__ import annotations
 
