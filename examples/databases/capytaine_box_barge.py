@@ -144,7 +144,22 @@ def coefficients(data, panels, resolution):
         "excitation_force_re": matrix(x.real),
         "excitation_force_im": matrix(x.imag),
         "hydrostatic_stiffness": matrix(data.hydrostatic_stiffness.values),
+        "inertia_matrix": matrix(rigid_inertia(float(data.disp_mass))),
+        "inertia_about": "a homogeneous solid box L x B x T of the displaced mass, centred at "
+                         "the origin (centre of gravity there); 6 x 6 about the origin, "
+                         "surge .. yaw (examples/cosim/floating_box.py)",
     }
+
+
+def rigid_inertia(mass):
+    """The body's 6 x 6 mass matrix about the origin: the displaced mass as a homogeneous solid
+    box of the hull's L x B x T centred at the origin, so that the centre of gravity is at the
+    origin as the database assumes (no coupling terms): m, m, m, m (B^2 + T^2) / 12,
+    m (L^2 + T^2) / 12, m (L^2 + B^2) / 12. A choice of this example, not Capytaine's: its
+    `inertia_matrix` (compute_rigid_body_inertia) integrates the submerged volume, whose centre
+    is at z = -T / 2, not at the centre of gravity given."""
+    return np.diag([mass, mass, mass, mass * (B**2 + T**2) / 12, mass * (L**2 + T**2) / 12,
+                    mass * (L**2 + B**2) / 12])
 
 
 def write(data, panels, resolution, outdir):
