@@ -534,3 +534,109 @@ fn the_cfg_beside_the_files_says_what_the_first_column_holds() {
         "{e}"
     );
 }
+
+/// `database` written as WAMIT files and read back (ULEN = 1, its rho and g, no checks).
+fn round_trip(database: &Database) -> Database {
+    let files = wamit::write(database);
+    let texts = WamitTexts {
+        radiation: Source {
+            name: "rt.1",
+            text: &files.radiation,
+        },
+        excitation: files
+            .excitation
+            .as_deref()
+            .map(|text| Source { name: "rt.3", text }),
+        hydrostatics: Some(Source {
+            name: "rt.hst",
+            text: &files.hydrostatics,
+        }),
+    };
+    let params = WamitParams {
+        rho: database.rho,
+        g: database.g,
+        ..WamitParams::default()
+    };
+    wamit::read(&database.name, texts, &params)
+        .unwrap()
+        .database
+}
+
+/// Largest difference of two complex tables over the largest entry of the first.
+fn relative_gap(a: &[nalgebra::DMatrix<Complex64>], b: &[nalgebra::DMatrix<Complex64>]) -> f64 {
+    let scale = a
+        .iter()
+        .flat_map(|m| m.iter())
+        .map(|z| z.norm())
+        .fold(0.0, f64::max);
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| (x - y).iter().map(|z| z.norm()).collect::<Vec<_>>())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+#[test]
+fn a_database_written_as_wamit_files_reads_back() {
+    // The hemisphere: every table back to the 10 digits written.
+    let db = sphere();
+    let back = round_trip(&db);
+    assert_eq!(back.dof_names, db.dof_names);
+    assert_eq!(back.omega.len(), db.omega.len());
+    for (a, b) in back.omega.iter().zip(&db.omega) {
+        assert!(close(*a, *b, 1e-9));
+    }
+    assert!(relative_gap(&db.added_mass, &back.added_mass) < 1e-9);
+    assert!(relative_gap(&db.excitation, &back.excitation) < 1e-9);
+    assert!((&db.added_mass_inf - &back.added_mass_inf).amax() < 1e-9 * db.added_mass_inf.amax());
+    assert!(
+        (&db.stiffness_hydrostatic - &back.stiffness_hydrostatic).amax()
+            < 1e-9 * db.stiffness_hydrostatic.amax()
+    );
+    assert_eq!(back.headings, db.headings);
+}
+
+#[test]
+fn a_ships_girder_mode_keeps_its_name_through_wamit_files() {
+    use hydrofmu::ship::{strip, Ship, ShipSweepParams};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ships/flexible_barge.xml");
+    let ship = Ship::from_file(&path).unwrap();
+    let mut params = ShipSweepParams::for_ship(&ship);
+    params.omega = vec![0.5, 1.0, 1.5];
+    params.headings = vec![180.0, 90.0];
+    params.panels.body_panels = 32;
+    params.panels_with_corners.body_panels = 32;
+    params.extrapolation_levels = 1;
+    params.levels_with_corners = 1;
+    let db = strip::run(&ship, &params, &|_, _| {}).unwrap();
+    let back = round_trip(&db);
+    // Rigid DOFs keep their WAMIT index and name; the girder modes are 7, 8, ... by name.
+    assert_eq!(back.dof_names, db.dof_names);
+    assert!(db.dof_names.iter().any(|d| d == "vb1"));
+    assert_eq!(
+        wamit::mode_indices(&db.dof_names)[db.dof_names.iter().position(|d| d == "vb1").unwrap()],
+        7 + db
+            .dof_names
+            .iter()
+            .filter(|d| !wamit::RIGID_MODES.contains(&d.as_str()))
+            .position(|d| d == "vb1")
+            .unwrap()
+    );
+    assert!(relative_gap(&db.added_mass, &back.added_mass) < 1e-9);
+    // Headings come back ascending; each heading's forces to the digits written.
+    assert_eq!(back.headings, [90.0, 180.0]);
+    let h = |d: &Database, heading: f64| d.headings.iter().position(|x| *x == heading).unwrap();
+    for heading in [90.0, 180.0] {
+        for k in 0..db.omega.len() {
+            let largest = db.excitation[k]
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max);
+            for j in 0..db.dof_names.len() {
+                let a = db.excitation[k][(j, h(&db, heading))];
+                let b = back.excitation[k][(j, h(&back, heading))];
+                assert!((a - b).norm() <= 1e-9 * largest, "{heading} {k} {j}");
+            }
+        }
+    }
+}

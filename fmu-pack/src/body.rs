@@ -40,6 +40,19 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
             .map_err(|e| format!("cannot format the restoring table: {e}"))?;
         output::file(path, &text)?;
     }
+    if let Some(prefix) = &args.wamit {
+        let files = hydrofmu::database::wamit::write(database);
+        let path = |ext: &str| {
+            let mut name = prefix.as_os_str().to_owned();
+            name.push(format!(".{ext}"));
+            std::path::PathBuf::from(name)
+        };
+        output::file(&path("1"), files.radiation.as_bytes())?;
+        if let Some(text) = &files.excitation {
+            output::file(&path("3"), text.as_bytes())?;
+        }
+        output::file(&path("hst"), files.hydrostatics.as_bytes())?;
+    }
     print_findings(database);
     Ok(())
 }

@@ -150,6 +150,11 @@ pub struct SweepArgs {
     /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]
     pub hydrostatics: Option<PathBuf>,
+    /// A ship file or an imported database: also write the tables as WAMIT files PREFIX.1,
+    /// PREFIX.3 (with an exciting force) and PREFIX.hst, ULEN = 1 m (docs/DATABASES.md,
+    /// "Export").
+    #[arg(long, value_name = "PREFIX")]
+    pub wamit: Option<PathBuf>,
 }
 
 /// The hydrostatic restoring table: header comments, then `i,j,value` with
@@ -213,6 +218,13 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     }
     if crate::database_cmd::is_database_file(&args.sweep.hull) {
         return crate::database_cmd::run(args);
+    }
+    if args.wamit.is_some() {
+        return Err(
+            "--wamit applies to ship files and imported databases (whole bodies), not to a \
+             section"
+                .to_string(),
+        );
     }
     let (hull, mut params) = args.sweep.resolve()?;
     // The diffraction problems only when a table asks for them.

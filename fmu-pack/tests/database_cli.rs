@@ -110,3 +110,61 @@ fn mistakes_are_named() {
         assert_eq!(err.lines().count(), 1, "{err}");
     }
 }
+
+#[test]
+fn wamit_export_of_a_database_reads_back_to_the_same_table() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-database-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let prefix = dir.join("again");
+    let (ok, first, err) = fmu_pack(&[
+        "sweep",
+        &sphere(),
+        "--wamit",
+        prefix.to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert!(ok, "{err}");
+    for ext in ["1", "3", "hst"] {
+        assert!(dir.join(format!("again.{ext}")).is_file(), "again.{ext}");
+    }
+    let (ok, second, err) = fmu_pack(&["sweep", dir.join("again.1").to_str().unwrap(), "-o", "-"]);
+    assert!(ok, "{err}");
+    // Every number equal to the 10 digits written (the header names another source).
+    let rows = |t: &str| -> Vec<Vec<f64>> {
+        t.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("omega"))
+            .map(|l| {
+                l.split(',')
+                    .map(|x| {
+                        if x == "inf" {
+                            f64::INFINITY
+                        } else {
+                            x.parse().unwrap()
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let (a, b) = (rows(&first), rows(&second));
+    assert_eq!(a.len(), b.len());
+    let scale = a
+        .iter()
+        .flat_map(|r| r[3..].iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    for (r, s) in a.iter().zip(&b) {
+        for (x, y) in r.iter().zip(s) {
+            assert!(
+                x == y || (x - y).abs() <= 1e-9 * x.abs().max(1e-9 * scale),
+                "{r:?} {s:?}"
+            );
+        }
+    }
+    // A section has no whole-body tables to write.
+    let (ok, _, err) = fmu_pack(&["sweep", "semicircle", "--wamit", "x", "-o", "-"]);
+    assert!(
+        !ok && err.contains("--wamit applies to ship files and imported databases"),
+        "{err}"
+    );
+}

@@ -174,6 +174,7 @@ enum Frequency {
 struct Rows<'a> {
     source: Source<'a>,
     rows: Vec<(usize, Vec<&'a str>)>,
+    header: Vec<&'a str>,
 }
 
 impl<'a> Rows<'a> {
@@ -185,6 +186,7 @@ impl<'a> Rows<'a> {
             ));
         }
         let mut rows = Vec::new();
+        let mut header = Vec::new();
         let mut header_lines = 0;
         for (index, line) in source.text.lines().enumerate() {
             let fields: Vec<&str> = line.split_whitespace().collect();
@@ -193,6 +195,7 @@ impl<'a> Rows<'a> {
             };
             if rows.is_empty() && parse_number(first).is_none() {
                 header_lines += 1;
+                header.push(line);
                 if header_lines > MAX_HEADER_LINES {
                     return Err(DatabaseError::at(
                         source.name,
@@ -214,7 +217,11 @@ impl<'a> Rows<'a> {
         if rows.is_empty() {
             return Err(DatabaseError::file(source.name, "no data rows".to_string()));
         }
-        Ok(Rows { source, rows })
+        Ok(Rows {
+            source,
+            rows,
+            header,
+        })
     }
 
     fn error(&self, line: usize, message: String) -> DatabaseError {
@@ -351,6 +358,149 @@ fn parse_number(token: &str) -> Option<f64> {
         .chars()
         .any(|c| c.is_ascii_alphabetic() && !matches!(c, 'e' | 'E' | 'd' | 'D'));
     (!alphabetic).then_some(value)
+}
+
+/// Mode names a header line gives as `modes: 3=heave 5=pitch 7=vb1` (what [`write`] puts
+/// there; WAMIT itself names none). Only names of identifier form are taken.
+fn header_names(header: &[&str]) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    for line in header {
+        let Some((_, list)) = line.split_once("modes:") else {
+            continue;
+        };
+        for pair in list.split_whitespace() {
+            let Some((index, name)) = pair.split_once('=') else {
+                continue;
+            };
+            let identifier = name.len() <= 64
+                && name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            if let (Ok(index), true) = (index.parse::<usize>(), identifier) {
+                out.push((index, name.to_string()));
+            }
+        }
+    }
+    out
+}
+
+/// WAMIT mode indices of DOF names: `surge` .. `yaw` are 1..6, every other DOF (an elastic or
+/// generalized mode) 7, 8, ... in its order.
+pub fn mode_indices(names: &[String]) -> Vec<usize> {
+    let mut next = 7;
+    names
+        .iter()
+        .map(|name| match RIGID_MODES.iter().position(|r| r == name) {
+            Some(k) => k + 1,
+            None => {
+                next += 1;
+                next - 1
+            }
+        })
+        .collect()
+}
+
+/// The three files of a database in WAMIT's format, ULEN = 1 m.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WamitFiles {
+    /// `NAME.1`: the `A_inf` rows (PER = 0), then every frequency, ascending period.
+    pub radiation: String,
+    /// `NAME.3`; `None` when the database has no exciting force.
+    pub excitation: Option<String>,
+    /// `NAME.hst`.
+    pub hydrostatics: String,
+}
+
+/// Writes `database` as WAMIT files (the inverse of [`read`] with ULEN = 1 m and the
+/// database's rho and g): `Abar = A / rho`, `Bbar = B / (rho omega) = -Im A~ / rho`,
+/// `Xbar = X / (rho g)`, `Cbar = C / (rho g)`, 10 significant digits. One header line names
+/// the modes (`modes: 3=heave 5=pitch 7=vb1`), so that [`read`] gives the names back; other
+/// readers skip it (or read the files without it: WAMIT writes one with NUMHDR = 1).
+pub fn write(database: &Database) -> WamitFiles {
+    let index = mode_indices(&database.dof_names);
+    let names: Vec<String> = index
+        .iter()
+        .zip(&database.dof_names)
+        .map(|(k, name)| format!("{k}={name}"))
+        .collect();
+    let header = |what: &str| {
+        format!(
+            " hydrofmu {what} of {} (ULEN = 1 m, rho = {} kg/m^3, g = {} m/s^2; {}) modes: {}\n",
+            database.name,
+            database.rho,
+            database.g,
+            database.source,
+            names.join(" ")
+        )
+    };
+    let number = |x: f64| format!("{:.9E}", x + 0.0);
+    let n = database.dof_names.len();
+    let (rho, g) = (database.rho, database.g);
+    let mut radiation = header("added mass and damping");
+    for i in 0..n {
+        for j in 0..n {
+            radiation.push_str(&format!(
+                "{} {} {} {}\n",
+                number(0.0),
+                index[i],
+                index[j],
+                number(database.added_mass_inf[(i, j)] / rho)
+            ));
+        }
+    }
+    let order: Vec<usize> = (0..database.omega.len()).rev().collect();
+    for &k in &order {
+        let period = 2.0 * std::f64::consts::PI / database.omega[k];
+        let a = &database.added_mass[k];
+        for i in 0..n {
+            for j in 0..n {
+                radiation.push_str(&format!(
+                    "{} {} {} {} {}\n",
+                    number(period),
+                    index[i],
+                    index[j],
+                    number(a[(i, j)].re / rho),
+                    number(-a[(i, j)].im / rho)
+                ));
+            }
+        }
+    }
+    let excitation = (!database.excitation.is_empty()).then(|| {
+        let mut text = header("exciting force");
+        for &k in &order {
+            let period = 2.0 * std::f64::consts::PI / database.omega[k];
+            for (h, heading) in database.headings.iter().enumerate() {
+                for (i, mode) in index.iter().enumerate() {
+                    let x = database.excitation[k][(i, h)] / (rho * g);
+                    text.push_str(&format!(
+                        "{} {} {mode} {} {} {} {}\n",
+                        number(period),
+                        number(*heading),
+                        number(x.norm()),
+                        number(x.im.atan2(x.re).to_degrees()),
+                        number(x.re),
+                        number(x.im)
+                    ));
+                }
+            }
+        }
+        text
+    });
+    let mut hydrostatics = header("hydrostatic restoring");
+    for i in 0..n {
+        for j in 0..n {
+            hydrostatics.push_str(&format!(
+                "{} {} {}\n",
+                index[i],
+                index[j],
+                number(database.stiffness_hydrostatic[(i, j)] / (rho * g))
+            ));
+        }
+    }
+    WamitFiles {
+        radiation,
+        excitation,
+        hydrostatics,
+    }
 }
 
 /// `e_i`: 1 for the rotations 4..6, 0 for the translations and the generalized modes.
@@ -563,7 +713,22 @@ pub fn read(
     let added_mass_zero = (!radiation.zero.is_empty()).then(|| limit(&radiation.zero));
     let omega: Vec<f64> = omegas.iter().map(|(w, _)| *w).collect();
 
-    let dof_names: Vec<String> = modes.iter().map(|&m| mode_name(m)).collect();
+    let named = header_names(&rows.header);
+    let dof_names: Vec<String> = modes
+        .iter()
+        .map(|&m| {
+            named
+                .iter()
+                .find(|(k, _)| *k == m && m > 6)
+                .map_or_else(|| mode_name(m), |(_, name)| name.clone())
+        })
+        .collect();
+    if let Some(k) = (1..dof_names.len()).find(|&k| dof_names[..k].contains(&dof_names[k])) {
+        return Err(DatabaseError::file(
+            radiation_file,
+            format!("the header names two modes '{}'", dof_names[k]),
+        ));
+    }
     let dof_units: Vec<DofUnit> = modes
         .iter()
         .zip(&dof_names)
