@@ -640,3 +640,27 @@ fn a_ships_girder_mode_keeps_its_name_through_wamit_files() {
         }
     }
 }
+
+#[test]
+fn a_database_written_as_a_capytaine_dataset_reads_back() {
+    use hydrofmu::database::capytaine;
+    let db = sphere();
+    let path = std::env::temp_dir().join(format!("hydrofmu-export-{}.nc", std::process::id()));
+    capytaine::write(&db, &path).unwrap();
+    let keep_all = ImportParams {
+        spikes: None,
+        ..params()
+    };
+    let back = import::import(&path, &keep_all).unwrap();
+    assert_eq!(back.dof_names, db.dof_names);
+    assert_eq!(back.headings, db.headings);
+    for (a, b) in back.omega.iter().zip(&db.omega) {
+        assert!(close(*a, *b, 1e-15));
+    }
+    // Binary doubles: the same numbers up to the damping's omega * (1 / omega).
+    assert!(relative_gap(&db.added_mass, &back.added_mass) < 1e-14);
+    assert!(relative_gap(&db.excitation, &back.excitation) < 1e-14);
+    assert!((&db.added_mass_inf - &back.added_mass_inf).amax() <= 1e-14 * db.added_mass_inf.amax());
+    assert_eq!(back.stiffness_hydrostatic, db.stiffness_hydrostatic);
+    let _ = std::fs::remove_file(&path);
+}

@@ -53,6 +53,9 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
         }
         output::file(&path("hst"), files.hydrostatics.as_bytes())?;
     }
+    if let Some(path) = &args.netcdf {
+        hydrofmu::database::capytaine::write(database, path)?;
+    }
     print_findings(database);
     Ok(())
 }

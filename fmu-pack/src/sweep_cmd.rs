@@ -155,6 +155,10 @@ pub struct SweepArgs {
     /// "Export").
     #[arg(long, value_name = "PREFIX")]
     pub wamit: Option<PathBuf>,
+    /// A ship file or an imported database: also write the tables as a Capytaine dataset in
+    /// NetCDF-3 (docs/DATABASES.md, "Export").
+    #[arg(long, value_name = "FILE.nc")]
+    pub netcdf: Option<PathBuf>,
 }
 
 /// The hydrostatic restoring table: header comments, then `i,j,value` with
@@ -219,12 +223,17 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     if crate::database_cmd::is_database_file(&args.sweep.hull) {
         return crate::database_cmd::run(args);
     }
-    if args.wamit.is_some() {
-        return Err(
-            "--wamit applies to ship files and imported databases (whole bodies), not to a \
+    if let Some(flag) = [
+        ("--wamit", args.wamit.is_some()),
+        ("--netcdf", args.netcdf.is_some()),
+    ]
+    .iter()
+    .find_map(|(flag, given)| given.then_some(flag))
+    {
+        return Err(format!(
+            "{flag} applies to ship files and imported databases (whole bodies), not to a \
              section"
-                .to_string(),
-        );
+        ));
     }
     let (hull, mut params) = args.sweep.resolve()?;
     // The diffraction problems only when a table asks for them.

@@ -510,3 +510,44 @@ def test_capytaines_netcdf_and_its_wamit_export_import_alike(fmu_pack_binary, da
     largest = {j: max(abs(v) for (w, jj, h), v in nc_x.items() if jj == j) for j in range(1, 7)}
     for (w, j, h), v in nc_x.items():
         assert abs(v - wamit_x[(w, j, h)]) <= 2e-6 * largest[j], (w, j, h)
+
+
+def test_our_netcdf_export_reads_in_capytaine_as_its_own_dataset(fmu_pack_binary, database,
+                                                                  tmp_path):
+    # Capytaine -> export_to_wamit -> fmu-pack -> `--netcdf` -> xarray + Capytaine's
+    # merge_complex_values: Capytaine's coefficients again, in its own convention and names.
+    # Within the WAMIT files' 7 digits (6e-7 of each entry's scale); the added mass as its
+    # symmetric part (the import makes A~ symmetric).
+    import capytaine as cpt
+
+    folder, ours_data = database
+    path = tmp_path / "export.nc"
+    fmu_pack(fmu_pack_binary, "sweep", folder / "box.1", "-o", tmp_path / "t.csv",
+             "--netcdf", path)
+    ds = cpt.io.xarray.merge_complex_values(xr.open_dataset(path))
+    raw = ours_data["raw"]
+    assert list(ds.influenced_dof.values) == raw["dofs"]
+    assert np.allclose(np.degrees(ds.wave_direction.values), raw["headings_deg"])
+    assert float(ds.rho) == raw["rho"] and float(ds.g) == raw["g"]
+    omega = np.array(raw["omega"])
+    finite = ds.sel(omega=omega, method="nearest")
+    assert np.allclose(finite.omega.values, omega, rtol=1e-6)
+
+    def symmetric(m):
+        return (m + np.swapaxes(m, -1, -2)) / 2
+
+    scale = np.sqrt(np.abs(np.einsum("kii->ki", np.array(raw["added_mass"]))).max(axis=0))
+    entry = np.outer(scale, scale)
+    a = symmetric(np.array(raw["added_mass"]))
+    b = symmetric(np.array(raw["radiation_damping"])) / omega[:, None, None]
+    assert np.all(np.abs(finite.added_mass.values - a) <= 6e-7 * entry)
+    assert np.all(np.abs(finite.radiation_damping.values / omega[:, None, None] - b)
+                  <= 6e-7 * entry)
+    inf = symmetric(np.array(raw["added_mass_inf"]))
+    assert np.all(np.abs(ds.added_mass.sel(omega=np.inf).values - inf) <= 6e-7 * entry)
+    x = np.array(raw["excitation_force_re"]) + 1j * np.array(raw["excitation_force_im"])
+    got = finite.excitation_force.transpose("omega", "wave_direction", "influenced_dof").values
+    largest = np.abs(x).max(axis=(0, 1))
+    assert np.all(np.abs(got - x) <= 1e-6 * largest)
+    c = np.array(raw["hydrostatic_stiffness"])
+    assert np.all(np.abs(ds.hydrostatic_stiffness.values - c) <= 1e-6 * np.abs(c).max())
