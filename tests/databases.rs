@@ -42,7 +42,13 @@ fn params() -> ImportParams {
 
 /// A directory with the three files, `edit`ed, written as `sphere.*`.
 fn files(tag: &str, edit: impl Fn(&str, String) -> Option<String>) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hydrofmu-databases-{tag}-{}", std::process::id()));
+    // One folder per call: the tests run in parallel threads and several read the plain files.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!(
+        "hydrofmu-databases-{tag}-{}-{call}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     for ext in ["1", "3", "hst"] {
