@@ -169,6 +169,48 @@ def run_case(case: dict, payload) -> list[dict]:
     ]
 
 
+def simulate_libcosim(case: dict, fmu) -> tuple[list[str], np.ndarray]:
+    """The same case under OSP's libcosim (libcosimpy): the FMU as a local slave, rho, g and the
+    wave parameters as initial values, libcosim's fixed-step algorithm on its nanosecond clock,
+    the outputs read by a last-value observer after each step. Returns what `simulate` does."""
+    from fmpy import read_model_description
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    log_output_level(CosimLogLevel.WARNING)
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    dofs = [v.name[len("velocity."):] for v in md.modelVariables if v.name.startswith("velocity.")]
+    step_ns = int(round(case["step"] * 1e9))
+    execution = CosimExecution.from_step_size(step_size=step_ns)
+    slave = execution.add_local_slave(CosimLocalSlave(fmu_path=str(fmu), instance_name=case["hull"]))
+    execution.real_initial_value(slave, vr["rho"], RHO)
+    execution.real_initial_value(slave, vr["g"], G)
+    waves = dict(
+        kind=2, height=case["hs"], period=case["tp"], gamma=case["gamma"], heading=case["heading"],
+        seed=case["seed"], components=case["components"], ramp=case["ramp"],
+    )
+    for name, value in waves.items():
+        if name in WAVE_INTEGERS:
+            execution.integer_initial_value(slave, vr[f"wave.{name}"], int(value))
+        else:
+            execution.real_initial_value(slave, vr[f"wave.{name}"], float(value))
+    observer = CosimObserver.create_last_value()
+    execution.add_observer(observer)
+    refs = [vr[f"force_excitation.{d}"] for d in dofs]
+    ramp_steps = int(round(case["ramp"] / case["step"]))
+    steps = int(round(case["duration"] / case["step"]))
+    record = np.empty((steps, len(dofs)))
+    for n in range(ramp_steps + steps):
+        assert execution.step()
+        if n >= ramp_steps:
+            record[n - ramp_steps] = observer.last_real_values(slave, refs)
+    execution.stop()
+    return dofs, record
+
+
 # --------------------------------------------------------------------------- running
 
 
@@ -314,10 +356,13 @@ def plot(rows, path):
         for b, dof in enumerate(dofs):
             ax = axes[a][b]
             mine = [r for r in rows if r["hull"] == hull and r["dof"] == dof]
-            for heading in sorted({r["heading"] for r in mine}):
+            for k, heading in enumerate(sorted({r["heading"] for r in mine})):
                 line = sorted((r["tp"], r["significant"], r.get("spectral_std", math.nan)) for r in mine if r["heading"] == heading)
                 tp = [p[0] for p in line]
-                (handle,) = ax.plot(tp, [p[1] for p in line], "o", label=f"{heading:g} deg")
+                (handle,) = ax.plot(
+                    tp, [p[1] for p in line], "osD^v"[k % 5], ms=7 - k % 5, mfc="none" if k % 2 else None,
+                    label=f"{heading:g} deg",
+                )
                 ax.plot(tp, [4 * p[2] for p in line], "-", color=handle.get_color(), lw=0.8)
             unit = "N" if dof in ("sway", "heave") else "N m"
             hs = sorted({r["hs"] for r in mine})
