@@ -471,11 +471,12 @@ fn a_missing_a_inf_is_estimated_and_said_so() {
         .expect("a note");
     assert!(note.contains("spread"), "{note}");
     let given = sphere().added_mass_inf;
-    // Seven frequencies up to 2.4 rad/s (kR = 2.9): the heave estimate, measured below, within
-    // 5 % of the file's own value; the Capytaine test measures a finer grid.
+    // Seven frequencies up to 2.4 rad/s (kR = 2.9): the heave estimate is 0.15 % below the
+    // file's own value (measured), within the 3.2 % the note states; 1 % asserted.
     let estimate = db.added_mass_inf[(HEAVE, HEAVE)];
     let truth = given[(HEAVE, HEAVE)];
-    assert!(close(estimate, truth, 0.05), "{estimate} vs {truth}");
+    assert!(close(estimate, truth, 0.01), "{estimate} vs {truth}");
+    assert!(note.contains("heave 3.2 %"), "{note}");
 }
 
 /// The sphere's `.1` and `.3` with the first column in rad/s (WAMIT's IPEROUT = 2; the limits

@@ -71,8 +71,6 @@ const MAX_NAME_BYTES: usize = 256;
 const MAX_VARIABLE_DIMS: usize = 32;
 /// Longest DOF name, in bytes.
 const MAX_DOF_NAME_BYTES: usize = 64;
-/// Two frequencies closer than this (relative) are one frequency written twice.
-const SAME_FREQUENCY: f64 = 1e-6;
 
 /// How to write a file this reader takes, for the messages.
 const HOW_TO_WRITE: &str = "write it as NetCDF-3 with \
@@ -809,7 +807,7 @@ fn convert(
     }
     finite.sort_by(|a, b| a.0.total_cmp(&b.0));
     for pair in finite.windows(2) {
-        if pair[1].0 - pair[0].0 <= SAME_FREQUENCY * pair[1].0 {
+        if pair[1].0 - pair[0].0 <= wamit::SAME_FREQUENCY * pair[1].0 {
             return Err(error(format!(
                 "omega[{}] = {} and omega[{}] = {} rad/s are the same to 1e-6: a frequency \
                  written twice",
@@ -1098,7 +1096,14 @@ fn capytaine_name(name: &str) -> String {
 /// The file cannot be written (the message names it).
 pub fn write(database: &Database, path: &std::path::Path) -> Result<(), String> {
     use netcdf3::{DataSet, FileWriter, Version};
-    let fail = |e: netcdf3::error::WriteError| format!("{}: {e:?}", path.display());
+    let fail = |e: netcdf3::error::WriteError| match e {
+        netcdf3::error::WriteError::IOErrorKind(kind) => format!(
+            "cannot write {}: {}",
+            path.display(),
+            std::io::Error::from(kind)
+        ),
+        other => format!("cannot write {}: {other:?}", path.display()),
+    };
     let define = |e: netcdf3::error::InvalidDataSet| format!("{}: {e:?}", path.display());
     let n = database.dof_names.len();
     let count = database.omega.len() + 1;

@@ -9,8 +9,6 @@ use super::capytaine;
 use super::irregular::{self, SpikeParams};
 use super::wamit::{self, Source, WamitParams, WamitTexts};
 use super::{Database, DatabaseError};
-use nalgebra::DMatrix;
-use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 
 /// How to import, with documented defaults.
@@ -228,23 +226,11 @@ pub fn finish(
             ));
         }
         database.failures.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let keep = |v: &mut Vec<DMatrix<Complex64>>| {
-            if v.len() == drop.len() {
-                let mut k = 0;
-                v.retain(|_| {
-                    k += 1;
-                    !drop[k - 1]
-                });
-            }
-        };
-        keep(&mut database.added_mass);
-        keep(&mut database.excitation);
-        keep(&mut database.froude_krylov);
-        let mut k = 0;
-        database.omega.retain(|_| {
-            k += 1;
-            !drop[k - 1]
-        });
+        let keep: Vec<bool> = drop.iter().map(|d| !d).collect();
+        super::retain_flagged(&mut database.added_mass, &keep);
+        super::retain_flagged(&mut database.excitation, &keep);
+        super::retain_flagged(&mut database.froude_krylov, &keep);
+        super::retain_flagged(&mut database.omega, &keep);
     }
     if database.omega.len() < 3 {
         return Err(DatabaseError::file(

@@ -115,6 +115,15 @@ impl std::fmt::Display for DatabaseError {
 
 impl std::error::Error for DatabaseError {}
 
+/// Keeps the entries of `v` whose flag in `keep` is true (`v` and `keep` of one length; a
+/// `v` of another length, an absent table, is left as it is).
+fn retain_flagged<T>(v: &mut Vec<T>, keep: &[bool]) {
+    if v.len() == keep.len() {
+        let mut flags = keep.iter();
+        v.retain(|_| flags.next().copied().unwrap_or(true));
+    }
+}
+
 fn readable(x: f64) -> String {
     format_number(x, Notation::Plain)
 }

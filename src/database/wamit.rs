@@ -45,7 +45,7 @@ pub const MAX_ENTRIES: usize = 50_000_000;
 /// Largest number of leading header lines skipped.
 const MAX_HEADER_LINES: usize = 100;
 /// Two frequencies closer than this (relative) are one frequency written twice.
-const SAME_FREQUENCY: f64 = 1e-6;
+pub(super) const SAME_FREQUENCY: f64 = 1e-6;
 /// A `.3` frequency matches a `.1` one within this (relative): the files' 7 digits.
 const MATCHING_FREQUENCY: f64 = 1e-4;
 /// Modulus and phase must agree with Re and Im within these (the files' digits).
@@ -743,21 +743,11 @@ pub fn read(
         Some(source) => read_excitation(source, &omega, &position, params, &mut notes)?,
         None => (Vec::new(), Vec::new(), vec![true; omega.len()]),
     };
-    let keep = |v: Vec<DMatrix<Complex64>>| -> Vec<DMatrix<Complex64>> {
-        v.into_iter()
-            .zip(&kept)
-            .filter(|(_, k)| **k)
-            .map(|(m, _)| m)
-            .collect()
-    };
-    let omega: Vec<f64> = omega
-        .iter()
-        .zip(&kept)
-        .filter(|(_, k)| **k)
-        .map(|(w, _)| *w)
-        .collect();
-    let added_mass = keep(added_mass);
-    let excitation = keep(excitation);
+    let mut omega = omega;
+    let mut excitation = excitation;
+    super::retain_flagged(&mut omega, &kept);
+    super::retain_flagged(&mut added_mass, &kept);
+    super::retain_flagged(&mut excitation, &kept);
     let database = Database {
         name: name.to_string(),
         source: format!("imported from WAMIT files ({radiation_file})"),
