@@ -992,6 +992,8 @@ mod fmi3;
 pub use fmi3::*;
 
 #[cfg(test)]
+mod fmi3_tests;
+#[cfg(test)]
 mod hostile_tests;
 #[cfg(test)]
 mod tests;
