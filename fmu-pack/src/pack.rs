@@ -1024,6 +1024,34 @@ mod tests {
     }
 
     #[test]
+    fn an_fmi3_archive_has_the_fmi3_layout_and_the_same_guid() {
+        let dir = temp_dir("fmi3");
+        let binary = dir.join("libfake.so");
+        std::fs::write(&binary, b"\x7fELF fake").unwrap();
+        let (two, three) = (dir.join("Two.fmu"), dir.join("Three.fmu"));
+        let s2 = pack_network(&hull(), &net(SEED), false, &to(&binary, "M", &two), None).unwrap();
+        let target = Target {
+            fmi: FmiVersion::V3,
+            ..to(&binary, "M", &three)
+        };
+        let s3 = pack_network(&hull(), &net(SEED), false, &target, None).unwrap();
+        assert_eq!(s3.guid, s2.guid);
+        let found = inspect(&three).unwrap();
+        assert_eq!(found.fmi_version, "3.0");
+        assert_eq!(inspect(&two).unwrap().fmi_version, "2.0");
+        assert_eq!(found.guid, s3.guid);
+        assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
+        assert!(found
+            .entries
+            .contains(&"binaries/x86_64-linux/M.so".to_string()));
+        assert!(!found.entries.iter().any(|e| e.contains("linux64")));
+        // time, 10 fixed parameters, velocity, force, power, energy, 3 arrays, the waves'
+        // force_radiation, force_excitation and wave.elevation.
+        assert_eq!(found.variables, 1 + 10 + 4 + 3 + 3);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn guids_differ_between_networks_hulls_and_flags() {
         let dir = temp_dir("guid");
         let binary = dir.join("lib.so");

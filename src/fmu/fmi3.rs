@@ -99,11 +99,17 @@ impl Layout {
             let Some((name, 0, 0)) = matrix_entry(v.quantity) else {
                 continue;
             };
-            let mut units: Vec<&'static str> = self
+            // (e_i + e_j, unit) of every entry, one per exponent sum, ascending.
+            let mut units: Vec<(u8, &'static str)> = self
                 .variables
                 .iter()
-                .filter(|w| matches!(matrix_entry(w.quantity), Some((m, _, _)) if m == name))
-                .map(|w| w.unit)
+                .filter_map(|w| match matrix_entry(w.quantity) {
+                    Some((m, i, j)) if m == name => Some((
+                        self.dofs[i].length_exponent + self.dofs[j].length_exponent,
+                        w.unit,
+                    )),
+                    _ => None,
+                })
                 .collect();
             units.sort_unstable();
             units.dedup();
@@ -121,9 +127,16 @@ impl Layout {
                 n = dofs.len()
             );
             let unit = if units.len() == 1 {
-                Some(units[0])
+                Some(units[0].1)
             } else {
-                description += &format!("; SI units by entry: {}", units.join(", "));
+                let by_sum: Vec<String> = units
+                    .iter()
+                    .map(|(sum, unit)| format!("{unit} where e_i + e_j = {sum}"))
+                    .collect();
+                description += &format!(
+                    "; SI units by entry, e the DOFs' length exponents (0 for a length, 1 for an angle or a mode amplitude): {}",
+                    by_sum.join(", ")
+                );
                 None
             };
             arrays.push(ArrayVariable {
@@ -413,8 +426,10 @@ mod tests {
         let mixed = layout(&["sway", "roll"], false).fmi3_arrays();
         assert_eq!(mixed.len(), 3);
         assert!(mixed.iter().all(|a| a.unit.is_none()));
+        // Sway a length (e = 0), roll an angle (e = 1), per unit length.
+        let expected = "kg/m where e_i + e_j = 0, kg where e_i + e_j = 1, kg.m where e_i + e_j = 2";
         assert!(
-            mixed[0].description.contains("kg.m"),
+            mixed[0].description.ends_with(expected),
             "{}",
             mixed[0].description
         );
