@@ -75,23 +75,6 @@ impl Layout {
         }
     }
 
-    /// The FMI 2.0 value references of a list of FMI 3.0 ones, arrays expanded row-major;
-    /// `None` stands for `time`. `Err` holds the first value reference that names nothing.
-    pub fn fmi3_expand(&self, vrs: &[u32]) -> Result<Vec<Option<u32>>, u32> {
-        let mut out = Vec::with_capacity(vrs.len());
-        for &vr in vrs {
-            match self.fmi3_reference(vr).ok_or(vr)? {
-                Fmi3Reference::Time => out.push(None),
-                Fmi3Reference::Scalar(r) => out.push(Some(r)),
-                Fmi3Reference::Array { first, count } => {
-                    // count = n * n <= 10^6 and the references exist (layout invariant).
-                    out.extend((0..count as u32).map(|k| Some(first + k)));
-                }
-            }
-        }
-        Ok(out)
-    }
-
     /// The three matrices as array variables.
     pub fn fmi3_arrays(&self) -> Vec<ArrayVariable> {
         let mut arrays = Vec::new();
@@ -401,24 +384,26 @@ mod tests {
     }
 
     #[test]
-    fn arrays_expand_row_major_onto_the_fmi2_entries() {
+    fn an_array_is_its_first_entry_and_spans_the_fmi2_entries_row_major() {
         let l = layout(&["sway", "heave", "roll"], true);
         let a = l.value_reference(Quantity::AddedMassInf(0, 0)).unwrap();
-        let expanded = l.fmi3_expand(&[a, VR_TIME]).unwrap();
-        assert_eq!(expanded.len(), 10);
+        let Some(Fmi3Reference::Array { first, count }) = l.fmi3_reference(a) else {
+            panic!("added_mass_inf is not an array");
+        };
+        assert_eq!((first, count), (a, 9));
         for i in 0..3 {
             for j in 0..3 {
-                let r = expanded[3 * i + j].unwrap();
-                assert_eq!(l.quantity(r), Some(Quantity::AddedMassInf(i, j)));
+                let q = l.quantity(first + (3 * i + j) as u32);
+                assert_eq!(q, Some(Quantity::AddedMassInf(i, j)));
             }
         }
-        assert_eq!(expanded[9], None);
+        assert_eq!(l.fmi3_reference(VR_TIME), Some(Fmi3Reference::Time));
         // An inner entry is not an FMI 3.0 variable; scalars stay.
         let inner = l.value_reference(Quantity::AddedMassInf(1, 2)).unwrap();
-        assert_eq!(l.fmi3_expand(&[inner]), Err(inner));
+        assert_eq!(l.fmi3_reference(inner), None);
         let v = l.value_reference(Quantity::Velocity(2)).unwrap();
-        assert_eq!(l.fmi3_expand(&[v]).unwrap(), vec![Some(v)]);
-        assert_eq!(l.fmi3_expand(&[98]), Err(98));
+        assert_eq!(l.fmi3_reference(v), Some(Fmi3Reference::Scalar(v)));
+        assert_eq!(l.fmi3_reference(98), None);
     }
 
     #[test]

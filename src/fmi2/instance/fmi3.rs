@@ -10,6 +10,7 @@ use super::{same_length, Instance};
 use crate::fmi2::logging::Category;
 use crate::fmi2::phase::{Function, Standard};
 use crate::fmi2::types::Status;
+use crate::fmu::Fmi3Reference;
 use crate::model::Resources;
 use std::ffi::CStr;
 use std::path::Path;
@@ -57,49 +58,66 @@ impl Instance {
         self.model.time()
     }
 
-    /// FMI 2.0 value references of FMI 3.0 ones (arrays expanded; `None` for `time`).
-    fn expand(&self, vr: &[u32]) -> Result<Vec<Option<u32>>, String> {
-        self.layout.fmi3_expand(vr).map_err(|r| {
-            format!("unknown value reference {r} (an array is read or set as a whole, by its own)")
+    /// What an FMI 3.0 value reference names, or why it names nothing.
+    fn reference(&self, vr: u32) -> Result<Fmi3Reference, String> {
+        self.layout.fmi3_reference(vr).ok_or_else(|| {
+            format!("unknown value reference {vr} (an array is read or set as a whole, by its own)")
         })
     }
 
-    /// Scalars only: `time` and arrays are refused with `what` (inputs, outputs).
-    fn expand_scalars(&self, vr: &[u32], what: &str) -> Result<Vec<u32>, String> {
-        let expanded = self.expand(vr)?;
-        if expanded.len() != vr.len() || expanded.iter().any(Option::is_none) {
-            return Err(format!(
-                "only {what} are accepted here (value references {vr:?})"
-            ));
+    /// Checks that every reference is a scalar (no `time`, no array): the FMI 2.0 value
+    /// references are then the same, and the FMI 2.0 call takes them as they are.
+    fn scalars_only(&self, vr: &[u32], what: &str) -> Result<(), String> {
+        for &r in vr {
+            if !matches!(self.reference(r)?, Fmi3Reference::Scalar(_)) {
+                return Err(format!(
+                    "only {what} are accepted here (value reference {r} is time or an array)"
+                ));
+            }
         }
-        Ok(expanded.into_iter().flatten().collect())
+        Ok(())
     }
 
-    /// fmi3GetFloat64: scalars, `time` and the arrays (row-major).
+    /// fmi3GetFloat64: scalars, `time` and the arrays (row-major). No allocation.
     pub fn get_float64(&mut self, vr: &[u32], values: &mut [f64]) -> Status {
         self.run(Function::GetReal, |inst| {
-            let expanded = inst.expand(vr)?;
-            same_length(
-                ("values of vr[]", expanded.len()),
-                ("nValues", values.len()),
-            )?;
-            for (r, out) in expanded.iter().zip(values.iter_mut()) {
-                *out = match r {
-                    None => inst.model.time(),
-                    Some(r) => {
-                        let q = inst.quantity(*r)?;
-                        inst.model.value(q).map_err(|e| e.to_string())?
-                    }
+            let mut count = 0usize;
+            for &r in vr {
+                count += match inst.reference(r)? {
+                    Fmi3Reference::Array { count, .. } => count,
+                    _ => 1,
                 };
+            }
+            same_length(("values of vr[]", count), ("nValues", values.len()))?;
+            let mut at = 0;
+            for &r in vr {
+                match inst.reference(r)? {
+                    Fmi3Reference::Time => values[at] = inst.model.time(),
+                    Fmi3Reference::Scalar(r) => values[at] = inst.scalar(r)?,
+                    Fmi3Reference::Array { first, count } => {
+                        // count = n^2 <= 10^6 references, all existing (layout invariant).
+                        for k in 0..count {
+                            values[at + k] = inst.scalar(first + k as u32)?;
+                        }
+                        at += count;
+                        continue;
+                    }
+                }
+                at += 1;
             }
             Ok(Status::Ok)
         })
     }
 
+    fn scalar(&mut self, vr: u32) -> Result<f64, String> {
+        let q = self.quantity(vr)?;
+        self.model.value(q).map_err(|e| e.to_string())
+    }
+
     /// fmi3SetFloat64: as fmi2SetReal; `time` and the arrays cannot be set.
     pub fn set_float64(&mut self, vr: &[u32], values: &[f64]) -> Status {
-        match self.expand_scalars(vr, "parameters and inputs") {
-            Ok(list) => self.set_real(&list, values),
+        match self.scalars_only(vr, "parameters and inputs") {
+            Ok(()) => self.set_real(vr, values),
             Err(message) => self.run(Function::SetReal, |_| Err(message)),
         }
     }
@@ -112,11 +130,11 @@ impl Instance {
         seed: &[f64],
         sensitivity: &mut [f64],
     ) -> Status {
-        let lists = self
-            .expand_scalars(unknowns, "scalar unknowns")
-            .and_then(|u| Ok((u, self.expand_scalars(knowns, "scalar knowns")?)));
-        match lists {
-            Ok((u, k)) => self.get_directional_derivative(&u, &k, seed, sensitivity),
+        let checked = self
+            .scalars_only(unknowns, "scalar unknowns")
+            .and_then(|()| self.scalars_only(knowns, "scalar knowns"));
+        match checked {
+            Ok(()) => self.get_directional_derivative(unknowns, knowns, seed, sensitivity),
             Err(message) => self.run(Function::GetDirectionalDerivative, |_| Err(message)),
         }
     }
@@ -128,8 +146,8 @@ impl Instance {
         orders: &[i32],
         values: &mut [f64],
     ) -> Status {
-        match self.expand_scalars(vr, "scalar outputs") {
-            Ok(list) => self.get_real_output_derivatives(&list, orders, values),
+        match self.scalars_only(vr, "scalar outputs") {
+            Ok(()) => self.get_real_output_derivatives(vr, orders, values),
             Err(message) => self.run(Function::GetRealOutputDerivatives, |_| Err(message)),
         }
     }
