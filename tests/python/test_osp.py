@@ -5,7 +5,8 @@ of examples/osp (OspSystemStructure.xml) connects the sway FMU of the semicircle
 to a rigid body on a spring, a pythonfmu FMU built from examples/osp/spring_body.py, by one
 VariableGroupConnection of their LinearMechanicalPorts. The free decay from a 0.1 m offset
 is checked against the frequency-domain prediction with the panel method's A~(w), and the
-run against the same coupling by scalar connections.
+run against the same coupling by scalar connections. A ship FMU (rigid and elastic DOFs)
+connects to one body per DOF by its three kinds of groups.
 """
 import csv
 import io
@@ -222,3 +223,88 @@ def test_a_wrong_group_or_a_missing_description_fails_to_load(system):
         CosimExecution.from_osp_config_file(str(alone / "OspSystemStructure.xml"))
     shutil.copy(system / OSP_NAME, alone / OSP_NAME)
     assert CosimExecution.from_osp_config_file(str(alone / "OspSystemStructure.xml")) is not None
+
+
+SHIP_PARTNER = """<?xml version="1.0" encoding="UTF-8"?>
+<OspModelDescription xmlns="https://open-simulation-platform.com/OspModelDescription/1.0.0" version="1.0">
+  <VariableGroups>
+    <LinearMechanicalPort name="port">
+      <Force name="port.force"><Variable ref="force"/></Force>
+      <LinearVelocity name="port.velocity"><Variable ref="velocity"/></LinearVelocity>
+    </LinearMechanicalPort>
+    <AngularMechanicalPort name="angular_port">
+      <Torque name="angular_port.torque"><Variable ref="force"/></Torque>
+      <AngularVelocity name="angular_port.velocity"><Variable ref="velocity"/></AngularVelocity>
+    </AngularMechanicalPort>
+    <Generic name="mode"><Variable ref="force"/><Variable ref="velocity"/></Generic>
+  </VariableGroups>
+</OspModelDescription>
+"""
+
+
+def test_a_ship_connects_its_rigid_and_elastic_dofs_by_their_groups(system, tmp_path):
+    """The box barge (heave, pitch, hull-girder mode vb1; forces of the whole body) with one
+    spring body per DOF: `translation`, `rotation` and the Generic `mode_vb1` (an output and
+    an input in one group) carry each force to its body and each velocity back."""
+    fmu_pack, library = _release_binaries()
+    subprocess.run(
+        [str(fmu_pack), "pack", str(ROOT / "examples" / "ships" / "box_barge.xml"),
+         "--binary", str(library), "-o", str(tmp_path / "Barge.fmu")],
+        check=True,
+        capture_output=True,
+    )
+    md = read_model_description(str(tmp_path / "Barge.fmu"))
+    assert (tmp_path / f"{md.modelName}_OspModelDescription.xml").is_file()
+    shutil.copy(system / "SpringBody.fmu", tmp_path / "SpringBody.fmu")
+    (tmp_path / "SpringBody_OspModelDescription.xml").write_text(SHIP_PARTNER)
+    pairs = {"heave": ("translation", "port"), "pitch": ("rotation", "angular_port"),
+             "vb1": ("mode_vb1", "mode")}
+    bodies = "".join(
+        f'<Simulator name="{d}" source="SpringBody.fmu"><InitialValues>'
+        f'<InitialValue variable="mass"><Real value="{m}"/></InitialValue>'
+        f'<InitialValue variable="stiffness"><Real value="{k}"/></InitialValue>'
+        f'<InitialValue variable="position_start"><Real value="{x}"/></InitialValue>'
+        "</InitialValues></Simulator>"
+        for d, m, k, x in (("heave", 1e6, 1e7, 0.1), ("pitch", 1e8, 1e9, 0.01), ("vb1", 1e6, 1e8, 0.01))
+    )
+    connections = "".join(
+        f'<VariableGroupConnection><VariableGroup simulator="ship" name="{ours}"/>'
+        f'<VariableGroup simulator="{d}" name="{theirs}"/></VariableGroupConnection>'
+        for d, (ours, theirs) in pairs.items()
+    )
+    config = tmp_path / "OspSystemStructure.xml"
+    config.write_text(
+        '<OspSystemStructure xmlns="http://opensimulationplatform.com/MSMI/OSPSystemStructure" '
+        'version="0.1"><BaseStepSize>0.01</BaseStepSize><Algorithm>fixedStep</Algorithm>'
+        f'<Simulators><Simulator name="ship" source="Barge.fmu"/>{bodies}</Simulators>'
+        f"<Connections>{connections}</Connections></OspSystemStructure>"
+    )
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    log_output_level(CosimLogLevel.ERROR)
+    execution = CosimExecution.from_osp_config_file(str(config))
+    observer = CosimObserver.create_last_value()
+    execution.add_observer(observer)
+    ship = execution.slave_index_from_instance_name("ship")
+    s = {v.name.decode(): v.reference for v in execution.slave_variables(ship)}
+    index = {d: execution.slave_index_from_instance_name(d) for d in pairs}
+    b = {v.name.decode(): v.reference for v in execution.slave_variables(index["heave"])}
+    previous = None
+    for step in range(200):
+        execution.step(1)
+        now = {}
+        for d in pairs:
+            force_in, velocity = observer.last_real_values(index[d], [b["force"], b["velocity"]])
+            force_out, velocity_in = observer.last_real_values(
+                ship, [s[f"force.{d}"], s[f"velocity.{d}"]]
+            )
+            now[d] = (force_in, velocity, force_out, velocity_in)
+            if previous is not None:
+                # Each body's force is its own DOF's force, each DOF's velocity its body's.
+                assert force_in == previous[d][2], (step, d)
+                assert velocity_in == previous[d][1], (step, d)
+        previous = now
+    for d in pairs:
+        assert abs(previous[d][2]) > 0.0 and abs(previous[d][3]) > 0.0, d
