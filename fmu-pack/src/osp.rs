@@ -23,6 +23,7 @@
 
 use hydrofmu::fmu::{Layout, Quantity};
 use hydrofmu::xml::escape;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -78,22 +79,19 @@ impl Group {
     }
 }
 
-/// Name and unit of the layout's variable of a quantity.
-fn member(layout: &Layout, quantity: Quantity) -> Option<(String, &'static str)> {
-    layout
-        .variables()
-        .iter()
-        .find(|v| v.quantity == quantity)
-        .map(|v| (v.name.clone(), v.unit))
-}
-
 /// The variable groups of a layout.
 pub fn groups(layout: &Layout) -> Vec<Group> {
     let dofs = layout.dofs();
+    let by_quantity: HashMap<Quantity, (String, &'static str)> = layout
+        .variables()
+        .iter()
+        .map(|v| (v.quantity, (v.name.clone(), v.unit)))
+        .collect();
+    let member = |q: Quantity| by_quantity.get(&q).cloned();
     let pick = |filter: &dyn Fn(usize) -> bool, of: fn(usize) -> Quantity| {
         (0..dofs.len())
             .filter(|&i| filter(i))
-            .filter_map(|i| member(layout, of(i)))
+            .filter_map(|i| member(of(i)))
             .collect::<Vec<_>>()
     };
     let translational = |i: usize| {
@@ -136,10 +134,9 @@ pub fn groups(layout: &Layout) -> Vec<Group> {
             continue;
         }
         let name = format!("mode_{}", d.name);
-        let (Some(force), Some(velocity)) = (
-            member(layout, Quantity::Force(i)),
-            member(layout, Quantity::Velocity(i)),
-        ) else {
+        let (Some(force), Some(velocity)) =
+            (member(Quantity::Force(i)), member(Quantity::Velocity(i)))
+        else {
             continue;
         };
         let (port, effort, flow) = match (d.length_exponent, d.is_angle) {
@@ -313,6 +310,16 @@ mod tests {
         Layout::new(dofs, false).unwrap()
     }
 
+    /// DOF names like the group names, and many modes.
+    fn odd() -> Layout {
+        let mut dofs: Vec<DofUnit> = ["force", "velocity", "translation", "mode_x", "x", "yaw"]
+            .iter()
+            .map(|n| DofUnit::new(n, 0, false))
+            .collect();
+        dofs.extend((0..200).map(|i| DofUnit::new(&format!("m{i}"), 1, i % 2 == 0)));
+        Layout::new(dofs, true).unwrap()
+    }
+
     fn find<'a>(root: &'a Element, kind: &str, name: &str) -> &'a Element {
         root.descendants()
             .find(|e| e.name == kind && e.attribute("name") == Some(name))
@@ -330,7 +337,7 @@ mod tests {
 
     #[test]
     fn every_reference_exists_with_its_causality_and_a_declared_unit() {
-        for layout in [ship(false), ship(true), section()] {
+        for layout in [ship(false), ship(true), section(), odd()] {
             let text = model_description(&layout);
             let root = parse(&text).unwrap();
             assert_eq!(root.name, "OspModelDescription");
@@ -401,6 +408,16 @@ mod tests {
             ["velocity.cb3"]
         );
         assert!(!model_description(&ship(false)).contains("acceleration"));
+        // A yaw that is a length is no rotation: its own linear port.
+        let root = parse(&model_description(&odd())).unwrap();
+        assert_eq!(refs(find(&root, "Force", "mode_yaw.force")), ["force.yaw"]);
+        assert!(!root
+            .descendants()
+            .any(|e| e.attribute("name") == Some("translation")));
+        assert_eq!(
+            refs(find(&root, "Generic", "mode_m1")),
+            ["force.m1", "velocity.m1"]
+        );
     }
 
     #[test]
