@@ -2,8 +2,10 @@
 //! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core), in calm water and in a
 //! JONSWAP sea of the default 64 components (Hs 2 m, Tp 8 s; a synthetic excitation table in
 //! the resources; target <= 2 x the calm step); and in calm water the branch-chain network of
-//! the same data (`CoupledMethod::Chains`), for the ratio in one run. The same radiation force
-//! by direct convolution: `cargo bench -p fmu-pack --bench convolution`.
+//! the same data (`CoupledMethod::Chains`), for the ratio in one run; and the calm step of the
+//! default network through the FMI 3.0 functions (fmi3SetFloat64, fmi3DoStep, fmi3GetFloat64).
+//! The same radiation force by direct convolution: `cargo bench -p fmu-pack --bench
+//! convolution`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use hydrofmu::fmi2::*;
@@ -29,15 +31,13 @@ const JONSWAP: i32 = 2;
 
 fn step(c: &mut Criterion) {
     bench_network(c, NETWORK, "", &["calm water", "JONSWAP, 64 components"]);
+    bench_fmi3(c, NETWORK);
     bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
 }
 
-fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
-    let dir = std::env::temp_dir().join(format!(
-        "hydrofmu-bench-{}-{}",
-        std::process::id(),
-        label.len()
-    ));
+/// A resources folder for `text` (tag: a distinct folder per caller); its GUID.
+fn resources(text: &str, tag: &str) -> (std::path::PathBuf, CString) {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-bench-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join(Resources::NETWORK_FILE), text).unwrap();
     std::fs::write(
@@ -51,6 +51,11 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
     )
     .unwrap();
     let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
+    (dir, guid)
+}
+
+fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
+    let (dir, guid) = resources(text, &label.len().to_string());
     let uri = CString::new(format!("file://{}", dir.display())).unwrap();
     let callbacks = fmi2CallbackFunctions {
         logger: None,
@@ -115,6 +120,71 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
             });
             fmi2FreeInstance(comp);
         }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The calm-water step through the FMI 3.0 functions, for the ratio to FMI 2.0 in one run.
+fn bench_fmi3(c: &mut Criterion, text: &str) {
+    let (dir, guid) = resources(text, "fmi3");
+    let path = CString::new(format!("{}/", dir.display())).unwrap();
+    let network = Network::from_xml_str(text, "network.xml").unwrap();
+    let states = network.state_space().unwrap().state_count();
+    let n = network.dof_count() as u32;
+    let velocity: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + i).collect();
+    let force: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + n + i).collect();
+    unsafe {
+        let inst = fmi3InstantiateCoSimulation(
+            c"bench".as_ptr(),
+            guid.as_ptr(),
+            path.as_ptr(),
+            0,
+            0,
+            0,
+            0,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            None,
+            std::ptr::null(),
+        );
+        assert!(!inst.is_null());
+        assert_eq!(
+            fmi3EnterInitializationMode(inst, 0, 0.0, 0.0, 0, 0.0),
+            fmi3OK
+        );
+        assert_eq!(fmi3ExitInitializationMode(inst), fmi3OK);
+        let h = 0.01;
+        let (mut t, mut k) = (0.0, 0u64);
+        let (mut v, mut f) = (vec![0.0; n as usize], vec![0.0; n as usize]);
+        let (mut event, mut stop, mut early, mut last) = (0u8, 0u8, 0u8, 0.0);
+        let name = format!(
+            "fmi3DoStep + fmi3SetFloat64(9) + fmi3GetFloat64(9), semicircle 9 DOFs, {states} states, calm water"
+        );
+        c.bench_function(&name, |b| {
+            b.iter(|| {
+                let phase = (k % 1000) as f64 * 1e-3;
+                for (i, x) in v.iter_mut().enumerate() {
+                    *x = phase + i as f64 * 0.1;
+                }
+                let count = velocity.len();
+                assert_eq!(
+                    fmi3SetFloat64(inst, velocity.as_ptr(), count, v.as_ptr(), count),
+                    fmi3OK
+                );
+                let status =
+                    fmi3DoStep(inst, t, h, 1, &mut event, &mut stop, &mut early, &mut last);
+                assert_eq!(status, fmi3OK);
+                t = (k + 1) as f64 * h;
+                k += 1;
+                assert_eq!(
+                    fmi3GetFloat64(inst, force.as_ptr(), count, f.as_mut_ptr(), count),
+                    fmi3OK
+                );
+                black_box(&f);
+            })
+        });
+        fmi3FreeInstance(inst);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -27,8 +27,8 @@
 //! from the exciting forces the sweep computes with the added mass.
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
-//! [`SceneReport`]). [`fmu`] (variables, model description, resources, GUID) and [`fmi2`] (the
-//! exported C functions) make the FMU. [`units`] and [`xml`] support every stage.
+//! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID) and [`fmi2`] (the
+//! exported C functions of FMI 2.0 and of FMI 3.0, over one instance) make the FMU. [`units`] and [`xml`] support every stage.
 //!
 //! Conventions (every module): 2D, per unit length of hull, SI units; x to the right, y up,
 //! mean free surface y = 0, fluid in y < 0, infinite depth; time factor `exp(+i omega t)`;

@@ -268,15 +268,13 @@ pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError>
         None => crate::pack::identifier_from_path(&args.output),
     };
     let network = PackedNetwork::from_network(fitted.fit.network.clone());
-    let mut summary = pack_network(
-        &body,
-        &network,
-        args.keep_inf_mass,
-        &binary,
-        &identifier,
-        &args.output,
-        None,
-    )?;
+    let target = crate::pack::Target {
+        binary: &binary,
+        model_identifier: &identifier,
+        output: &args.output,
+        fmi: args.fmi,
+    };
+    let mut summary = pack_network(&body, &network, args.keep_inf_mass, &target, None)?;
     summary.fit = Some(text.replace('\n', "; "));
     Ok(summary)
 }

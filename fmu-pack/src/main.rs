@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! fmu-pack                                  pack the built-in semicircle into Semicircle.fmu
-//! fmu-pack pack HULL [--network FILE] ... -o X.fmu
+//! fmu-pack pack HULL [--network FILE] [--fmi 3] ... -o X.fmu
 //! fmu-pack inspect X.fmu
 //! fmu-pack sweep ...                        coefficient table of a hull
 //! fmu-pack fit ...                          equivalent network of a hull
@@ -32,7 +32,7 @@ use std::process::ExitCode;
 #[command(
     name = "fmu-pack",
     version,
-    about = "Packs hydrofmu FMI 2.0 co-simulation units, one per hull",
+    about = "Packs hydrofmu FMI 2.0 (or 3.0) co-simulation units, one per hull",
     long_about = "Packs hydrofmu FMI 2.0 co-simulation units, one per hull. \
                   Without a subcommand, packs the built-in semicircle into Semicircle.fmu."
 )]

@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! modelDescription.xml
-//! binaries/linux64/<modelIdentifier>.so    copy of the hydrofmu cdylib
+//! binaries/linux64/<modelIdentifier>.so    copy of the hydrofmu cdylib (FMI 2.0)
+//! binaries/x86_64-linux/<modelIdentifier>.so  the same library (FMI 3.0, `--fmi 3`)
 //! resources/network.xml                    the equivalent network
 //! resources/options.xml                    flags (keep_inf_mass)
 //! resources/hull.xml                       when the hull is known
@@ -94,6 +95,35 @@ pub struct PackArgs {
     /// modelIdentifier (default: from the output file name).
     #[arg(long)]
     pub model_identifier: Option<String>,
+    /// FMI version of the archive: 2 (default; OSP's libcosim reads 2.0 only) or 3 (the same
+    /// FMU through the fmi3 functions, matrices as array variables).
+    #[arg(long = "fmi", value_enum, default_value_t = FmiVersion::V2)]
+    pub fmi: FmiVersion,
+}
+
+/// The FMI version of an archive.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FmiVersion {
+    /// FMI 2.0: `binaries/linux64/`, fmi2 functions.
+    #[default]
+    #[value(name = "2")]
+    V2,
+    /// FMI 3.0: `binaries/x86_64-linux/`, fmi3 functions.
+    #[value(name = "3")]
+    V3,
+}
+
+/// Where and how an archive is written.
+#[derive(Clone, Copy, Debug)]
+pub struct Target<'a> {
+    /// The hydrofmu shared library to pack.
+    pub binary: &'a Path,
+    /// modelIdentifier (the binary's name in the archive).
+    pub model_identifier: &'a str,
+    /// The archive.
+    pub output: &'a Path,
+    /// Its FMI version.
+    pub fmi: FmiVersion,
 }
 
 /// Arguments of `fmu-pack inspect`.
@@ -231,13 +261,17 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         Some(id) => id.clone(),
         None => identifier_from_path(&args.output),
     };
+    let target = Target {
+        binary: &binary,
+        model_identifier: &identifier,
+        output: &args.output,
+        fmi: args.fmi,
+    };
     pack_network(
         &hull,
         &network,
         args.keep_inf_mass,
-        &binary,
-        &identifier,
-        &args.output,
+        &target,
         report.as_ref(),
     )
 }
@@ -302,11 +336,15 @@ pub fn pack_network(
     hull: &HullInfo,
     network: &PackedNetwork,
     keep_inf_mass: bool,
-    binary: &Path,
-    model_identifier: &str,
-    output: &Path,
+    target: &Target,
     fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
+    let Target {
+        binary,
+        model_identifier,
+        output,
+        fmi,
+    } = *target;
     // The exciting force table of the sweep, for the network's DOFs (a network packed from a
     // file has no sweep: its FMU models calm water only).
     let excitation = match fit {
@@ -374,9 +412,15 @@ pub fn pack_network(
         damping_direct: Some(system.damping_direct().clone()),
         added_mass_inf: Some(system.added_mass_inf().clone()),
     };
-    let description = layout
-        .model_description(FIXED_XML, &info)
-        .map_err(|e| e.to_string())?;
+    let description = match fmi {
+        FmiVersion::V2 => layout.model_description(FIXED_XML, &info),
+        FmiVersion::V3 => layout.model_description_fmi3(FIXED_XML, &info),
+    }
+    .map_err(|e| e.to_string())?;
+    let platform = match fmi {
+        FmiVersion::V2 => "linux64",
+        FmiVersion::V3 => "x86_64-linux",
+    };
     let library = std::fs::read(binary)
         .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
     let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
@@ -410,7 +454,10 @@ pub fn pack_network(
 
     let mut entries: Vec<(String, Vec<u8>)> = vec![
         ("modelDescription.xml".into(), description.into_bytes()),
-        (format!("binaries/linux64/{model_identifier}.so"), library),
+        (
+            format!("binaries/{platform}/{model_identifier}.so"),
+            library,
+        ),
         (
             format!("resources/{}", Resources::NETWORK_FILE),
             resources.network_xml.clone().into_bytes(),
@@ -706,6 +753,8 @@ fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
 pub struct Inspection {
     /// modelName.
     pub model_name: String,
+    /// fmiVersion (`2.0` or `3.0`).
+    pub fmi_version: String,
     /// modelIdentifier.
     pub model_identifier: String,
     /// GUID in the model description.
@@ -729,6 +778,7 @@ pub struct Inspection {
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "model             {}", self.model_name)?;
+        writeln!(f, "FMI version       {}", self.fmi_version)?;
         writeln!(f, "modelIdentifier   {}", self.model_identifier)?;
         writeln!(
             f,
@@ -830,6 +880,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
 
     let mut out = Inspection {
         model_name: String::new(),
+        fmi_version: String::new(),
         model_identifier: String::new(),
         guid: String::new(),
         resources_guid: resources.guid(),
@@ -848,7 +899,11 @@ fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
         match e.name.as_str() {
             "fmiModelDescription" => {
                 out.model_name = attr("modelName").unwrap_or_default();
-                out.guid = attr("guid").unwrap_or_default();
+                out.fmi_version = attr("fmiVersion").unwrap_or_default();
+                // FMI 3.0 calls the GUID the instantiation token.
+                out.guid = attr("guid")
+                    .or_else(|| attr("instantiationToken"))
+                    .unwrap_or_default();
             }
             "CoSimulation" => out.model_identifier = attr("modelIdentifier").unwrap_or_default(),
             "ScalarVariable" => {
@@ -857,6 +912,15 @@ fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
             }
             "Real" => {
                 if let Some(dof) = current_name.strip_prefix("velocity.") {
+                    out.dofs
+                        .push((dof.to_string(), attr("unit").unwrap_or_default()));
+                }
+            }
+            // FMI 3.0: one element per variable, the unit on it.
+            "Float64" | "Int32" => {
+                out.variables += 1;
+                let name = attr("name").unwrap_or_default();
+                if let Some(dof) = name.strip_prefix("velocity.") {
                     out.dofs
                         .push((dof.to_string(), attr("unit").unwrap_or_default()));
                 }
@@ -887,6 +951,16 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         d
+    }
+
+    /// An FMI 2.0 target.
+    fn to<'a>(binary: &'a Path, model_identifier: &'a str, output: &'a Path) -> Target<'a> {
+        Target {
+            binary,
+            model_identifier,
+            output,
+            fmi: FmiVersion::V2,
+        }
     }
 
     fn hull() -> HullInfo {
@@ -922,7 +996,8 @@ mod tests {
         let out = dir.join("Seed-1.fmu");
         let id = identifier_from_path(&out);
         assert_eq!(id, "Seed_1");
-        let summary = pack_network(&hull(), &net(SEED), false, &binary, &id, &out, None).unwrap();
+        let summary =
+            pack_network(&hull(), &net(SEED), false, &to(&binary, &id, &out), None).unwrap();
         assert_eq!(summary.dofs, vec!["sway".to_string()]);
         assert_eq!(summary.states, 4);
         let found = inspect(&out).unwrap();
@@ -973,6 +1048,34 @@ mod tests {
     }
 
     #[test]
+    fn an_fmi3_archive_has_the_fmi3_layout_and_the_same_guid() {
+        let dir = temp_dir("fmi3");
+        let binary = dir.join("libfake.so");
+        std::fs::write(&binary, b"\x7fELF fake").unwrap();
+        let (two, three) = (dir.join("Two.fmu"), dir.join("Three.fmu"));
+        let s2 = pack_network(&hull(), &net(SEED), false, &to(&binary, "M", &two), None).unwrap();
+        let target = Target {
+            fmi: FmiVersion::V3,
+            ..to(&binary, "M", &three)
+        };
+        let s3 = pack_network(&hull(), &net(SEED), false, &target, None).unwrap();
+        assert_eq!(s3.guid, s2.guid);
+        let found = inspect(&three).unwrap();
+        assert_eq!(found.fmi_version, "3.0");
+        assert_eq!(inspect(&two).unwrap().fmi_version, "2.0");
+        assert_eq!(found.guid, s3.guid);
+        assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
+        assert!(found
+            .entries
+            .contains(&"binaries/x86_64-linux/M.so".to_string()));
+        assert!(!found.entries.iter().any(|e| e.contains("linux64")));
+        // time, 10 fixed parameters, velocity, force, power, energy, 3 arrays, the waves'
+        // force_radiation, force_excitation and wave.elevation.
+        assert_eq!(found.variables, 1 + 10 + 4 + 3 + 3);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn guids_differ_between_networks_hulls_and_flags() {
         let dir = temp_dir("guid");
         let binary = dir.join("lib.so");
@@ -982,9 +1085,7 @@ mod tests {
                 h,
                 &self::net(net),
                 keep,
-                &binary,
-                "M",
-                &dir.join(name),
+                &to(&binary, "M", &dir.join(name)),
                 None,
             )
             .unwrap()
@@ -1015,7 +1116,7 @@ mod tests {
         let out = dir.join("x.fmu");
         let mut h = hull();
         h.dofs.remove(0);
-        let e = pack_network(&h, &net(SEED), false, &binary, "X", &out, None).unwrap_err();
+        let e = pack_network(&h, &net(SEED), false, &to(&binary, "X", &out), None).unwrap_err();
         assert!(e.0.contains("'sway' is not a DOF"), "{e}");
         let e = PackedNetwork::from_text("<nonsense".into(), "network.xml")
             .err()
@@ -1025,9 +1126,7 @@ mod tests {
             &hull(),
             &net(SEED),
             false,
-            &dir.join("missing.so"),
-            "X",
-            &out,
+            &to(&dir.join("missing.so"), "X", &out),
             None,
         )
         .unwrap_err();

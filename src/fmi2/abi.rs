@@ -22,6 +22,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr::addr_of;
 
 const INSTANCE_MAGIC: u64 = 0x6879_6472_6f66_6d75; // "hydrofmu"
+/// An instance made by fmi3InstantiateCoSimulation: fmi2 functions refuse it, and back.
+const INSTANCE_MAGIC_FMI3: u64 = 0x6879_6472_6f66_6d33; // "hydrofm3"
 const SNAPSHOT_MAGIC: u64 = 0x6879_6472_6f73_6e70; // "hydrosnp"
 
 /// What an `fmi2Component` points to. `repr(C)` with the magic number first: checking a
@@ -42,14 +44,35 @@ struct StoredState {
 
 /// The copied callbacks.
 #[derive(Clone, Copy)]
-struct Logger {
-    logger: Option<fmi2CallbackLogger>,
-    environment: fmi2ComponentEnvironment,
+enum Logger {
+    /// fmi2CallbackLogger: a printf-like format.
+    Fmi2 {
+        logger: Option<fmi2CallbackLogger>,
+        environment: fmi2ComponentEnvironment,
+    },
+    /// fmi3LogMessageCallback: plain text, no instance name.
+    Fmi3 {
+        logger: Option<fmi3::fmi3LogMessageCallback>,
+        environment: fmi3::fmi3InstanceEnvironment,
+    },
 }
 
 impl Logger {
     fn log(&self, instance_name: &CStr, message: &Message) {
-        let Some(logger) = self.logger else { return };
+        let (logger, environment) = match *self {
+            Logger::Fmi2 {
+                logger,
+                environment,
+            } => (logger, environment),
+            Logger::Fmi3 {
+                logger,
+                environment,
+            } => {
+                fmi3::log(logger, environment, message);
+                return;
+            }
+        };
+        let Some(logger) = logger else { return };
         let escaped = message.text.replace('%', "%%").replace('\0', " ");
         let Ok(text) = CString::new(escaped) else {
             return;
@@ -61,7 +84,7 @@ impl Logger {
         // NUL-terminated, and the format has no conversions left (every % is doubled).
         unsafe {
             logger(
-                self.environment,
+                environment,
                 instance_name.as_ptr(),
                 message.status.code(),
                 category.as_ptr(),
@@ -80,14 +103,23 @@ impl Logger {
 /// # Safety
 /// `c` is NULL or points to at least 8 readable bytes.
 unsafe fn component_from(c: fmi2Component) -> Option<*mut Component> {
+    // SAFETY: the caller's contract.
+    unsafe { component_with_magic(c, INSTANCE_MAGIC) }
+}
+
+/// The component behind `c`, if it is one of ours made through the standard `magic` names.
+///
+/// # Safety
+/// As [`component_from`].
+unsafe fn component_with_magic(c: fmi2Component, magic: u64) -> Option<*mut Component> {
     if c.is_null() || (c as usize) % std::mem::align_of::<Component>() != 0 {
         return None;
     }
     let component = c as *mut Component;
     // SAFETY: non-null and aligned; the first 8 bytes are readable (caller) and are the
     // `magic` field of a `repr(C)` Component. No reference to the whole is made.
-    let magic = unsafe { addr_of!((*component).magic).read() };
-    (magic == INSTANCE_MAGIC).then_some(component)
+    let found = unsafe { addr_of!((*component).magic).read() };
+    (found == magic).then_some(component)
 }
 
 /// Runs `body` on the instance behind `c`, catches a panic (the instance becomes fatal),
@@ -102,7 +134,21 @@ unsafe fn with_instance(
     body: impl FnOnce(&mut Instance) -> Status,
 ) -> fmi2Status {
     // SAFETY: the caller's contract.
-    let Some(component) = (unsafe { component_from(c) }) else {
+    unsafe { with_instance_of(INSTANCE_MAGIC, c, function, body) }
+}
+
+/// [`with_instance`] for a component made through the standard `magic` names.
+///
+/// # Safety
+/// As [`with_instance`].
+unsafe fn with_instance_of(
+    magic: u64,
+    c: fmi2Component,
+    function: Function,
+    body: impl FnOnce(&mut Instance) -> Status,
+) -> fmi2Status {
+    // SAFETY: the caller's contract.
+    let Some(component) = (unsafe { component_with_magic(c, magic) }) else {
         return fmi2Error;
     };
     let status = catch_unwind(AssertUnwindSafe(|| {
@@ -153,6 +199,20 @@ unsafe fn call(
     function: Function,
     body: impl FnOnce(&mut Instance) -> Result<Status, String>,
 ) -> fmi2Status {
+    // SAFETY: the caller's contract.
+    unsafe { call_of(INSTANCE_MAGIC, c, function, body) }
+}
+
+/// [`call`] for a component made through the standard `magic` names.
+///
+/// # Safety
+/// As [`with_instance`].
+unsafe fn call_of(
+    magic: u64,
+    c: fmi2Component,
+    function: Function,
+    body: impl FnOnce(&mut Instance) -> Result<Status, String>,
+) -> fmi2Status {
     let checked = |instance: &mut Instance| {
         if let Some(refused) = instance.refuse_outside_phase(function) {
             return refused;
@@ -160,7 +220,7 @@ unsafe fn call(
         body(instance).unwrap_or_else(|message| instance.reject_arguments(function, &message))
     };
     // SAFETY: the caller's contract.
-    unsafe { with_instance(c, function, checked) }
+    unsafe { with_instance_of(magic, c, function, checked) }
 }
 
 /// Checks an array pointer for `n` values of `T`: NULL is accepted only for n = 0.
@@ -301,6 +361,34 @@ unsafe fn with_state_slot(
     Ok(save(slot))
 }
 
+/// Frees the state `*FMUstate` points to and sets it to NULL (a NULL state is a no-op).
+///
+/// # Safety
+/// Unless NULL, `FMUstate` points to a readable and writable `fmi2FMUstate`, which is NULL or
+/// as for [`stored_state`].
+unsafe fn free_state(inst: &mut Instance, FMUstate: *mut fmi2FMUstate) -> Result<Status, String> {
+    if FMUstate.is_null() {
+        return Err("FMUstate pointer is NULL".to_string());
+    }
+    // SAFETY: non-null; the master passes a readable and writable fmi2FMUstate*.
+    let state = unsafe { FMUstate.read() };
+    if state.is_null() {
+        return Ok(inst.free_fmu_state(None));
+    }
+    // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
+    let stored = unsafe { stored_state(state) }?;
+    // SAFETY: a live StoredState made by Box::into_raw in `with_state_slot`, nothing
+    // borrows it; the magic is cleared so that a second free is refused, and the
+    // master's pointer is set to NULL.
+    let snapshot = unsafe {
+        (*stored).magic = 0;
+        let stored = Box::from_raw(stored);
+        FMUstate.write(std::ptr::null_mut());
+        stored.snapshot
+    };
+    Ok(inst.free_fmu_state(snapshot))
+}
+
 // ---------------------------------------------------------------------------------------
 // Inquiry and life cycle
 // ---------------------------------------------------------------------------------------
@@ -336,7 +424,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         }
         // SAFETY: non-null and aligned; the master passes its callback functions.
         let callbacks = unsafe { functions.read() };
-        let logger = Logger {
+        let logger = Logger::Fmi2 {
             logger: callbacks.logger,
             environment: callbacks.componentEnvironment,
         };
@@ -661,28 +749,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    let body = |inst: &mut Instance| {
-        if FMUstate.is_null() {
-            return Err("FMUstate pointer is NULL".to_string());
-        }
-        // SAFETY: non-null; the master passes a readable and writable fmi2FMUstate*.
-        let state = unsafe { FMUstate.read() };
-        if state.is_null() {
-            return Ok(inst.free_fmu_state(None));
-        }
-        // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-        let stored = unsafe { stored_state(state) }?;
-        // SAFETY: a live StoredState made by Box::into_raw in `with_state_slot`, nothing
-        // borrows it; the magic is cleared so that a second free is refused, and the
-        // master's pointer is set to NULL.
-        let snapshot = unsafe {
-            (*stored).magic = 0;
-            let stored = Box::from_raw(stored);
-            FMUstate.write(std::ptr::null_mut());
-            stored.snapshot
-        };
-        Ok(inst.free_fmu_state(snapshot))
-    };
+    // SAFETY: the master passes an fmi2FMUstate* holding NULL or a state of this FMU.
+    let body = |inst: &mut Instance| unsafe { free_state(inst, FMUstate) };
     // SAFETY: the master passes a component from fmi2Instantiate.
     unsafe { call(c, Function::FreeFmuState, body) }
 }
@@ -920,6 +988,11 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     unsafe { call(c, Function::GetStringStatus, body) }
 }
 
+mod fmi3;
+pub use fmi3::*;
+
+#[cfg(test)]
+mod fmi3_tests;
 #[cfg(test)]
 mod hostile_tests;
 #[cfg(test)]

@@ -13,7 +13,7 @@
 //! Messages are collected ([`Instance::take_messages`]), never sent from here.
 
 use super::logging::{Category, LogSwitches, Message};
-use super::phase::{allowed, Function, Phase};
+use super::phase::{allowed, Function, Phase, Standard};
 use super::types::{
     fmi2Boolean, fmi2CoSimulation, fmi2Integer, fmi2LastSuccessfulTime, fmi2StatusKind,
     fmi2Terminated, fmi2Type, fmi2ValueReference, Status,
@@ -32,6 +32,7 @@ pub struct Instance {
     phase: Phase,
     model: Model,
     layout: Layout,
+    standard: Standard,
 }
 
 /// A saved FMU state (behind an `fmi2FMUstate`): the model state and the phase.
@@ -114,9 +115,10 @@ impl Instance {
             phase: Phase::Instantiated,
             model,
             layout,
+            standard: Standard::Fmi2,
         };
         let text = format!(
-            "fmi2Instantiate: {} DOFs ({}), {} network states",
+            "instantiated: {} DOFs ({}), {} network states",
             instance.model.dof_count(),
             instance.model.dof_names().join(", "),
             instance.model.system().state_size()
@@ -175,7 +177,7 @@ impl Instance {
     fn refuse(&mut self, function: Function) -> Status {
         let text = format!(
             "{}: not allowed in phase {:?} (call refused)",
-            function.name(),
+            function.name_in(self.standard),
             self.phase
         );
         self.log(Status::Error, Category::Error, text);
@@ -183,7 +185,7 @@ impl Instance {
     }
 
     fn fail(&mut self, function: Function, message: &str) -> Status {
-        let text = format!("{}: {message}", function.name());
+        let text = format!("{}: {message}", function.name_in(self.standard));
         self.log(Status::Error, Category::Error, text);
         self.phase = Phase::Error;
         Status::Error
@@ -191,7 +193,8 @@ impl Instance {
 
     /// One call: phase check, body, error rule, `logCalls` line.
     fn run(&mut self, function: Function, body: impl FnOnce(&mut Self) -> Outcome) -> Status {
-        self.run_described(function, || function.name().to_string(), body)
+        let name = function.name_in(self.standard);
+        self.run_described(function, || name.to_string(), body)
     }
 
     fn run_described(
@@ -218,7 +221,8 @@ impl Instance {
         }
         let first = self.messages.len();
         let status = self.refuse(function);
-        self.log_call(first, status, || function.name().to_string());
+        let name = function.name_in(self.standard);
+        self.log_call(first, status, || name.to_string());
         Some(status)
     }
 
@@ -226,7 +230,8 @@ impl Instance {
     pub(crate) fn reject_arguments(&mut self, function: Function, message: &str) -> Status {
         let first = self.messages.len();
         let status = self.fail(function, message);
-        self.log_call(first, status, || function.name().to_string());
+        let name = function.name_in(self.standard);
+        self.log_call(first, status, || name.to_string());
         status
     }
 
@@ -235,11 +240,12 @@ impl Instance {
         self.phase = Phase::Fatal;
         let text = format!(
             "{}: internal error (panic); the instance can only be freed",
-            function.name()
+            function.name_in(self.standard)
         );
         self.log(Status::Fatal, Category::Fatal, text);
         let end = self.messages.len();
-        self.log_call(end, Status::Fatal, || function.name().to_string());
+        let name = function.name_in(self.standard);
+        self.log_call(end, Status::Fatal, || name.to_string());
         Status::Fatal
     }
 
@@ -331,7 +337,7 @@ impl Instance {
         self.run(Function::Reset, |inst| {
             inst.model.reset().map_err(|e| e.to_string())?;
             inst.phase = Phase::Instantiated;
-            let text = "fmi2Reset: back to the start values".to_string();
+            let text = "reset: back to the start values".to_string();
             inst.log(Status::Ok, Category::Events, text);
             Ok(Status::Ok)
         })
@@ -366,13 +372,13 @@ impl Instance {
                 match q {
                     Quantity::Rho | Quantity::G | Quantity::Wave(_) if !before_init => {
                         return Err(format!(
-                            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+                            "{} is a fixed parameter: set it before initialization mode ends",
                             inst.variable_name(*r)
                         ))
                     }
                     Quantity::Wave(p) if p.is_integer() => {
                         return Err(format!(
-                            "{} is an Integer parameter: set it with fmi2SetInteger",
+                            "{} is an Integer parameter: set it with fmi2SetInteger (fmi3SetInt32)",
                             inst.variable_name(*r)
                         ))
                     }
@@ -473,7 +479,7 @@ impl Instance {
                     Quantity::Wave(p) if p.is_integer() && before_init => {}
                     Quantity::Wave(p) if p.is_integer() => {
                         return Err(format!(
-                            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+                            "{} is a fixed parameter: set it before initialization mode ends",
                             inst.variable_name(*r)
                         ))
                     }
@@ -727,9 +733,13 @@ impl Instance {
 
     /// fmi2DoStep: one communication step from `current` (the instance's time) by h > 0.
     pub fn do_step(&mut self, current: f64, h: f64, _no_set_state_prior: bool) -> Status {
+        let standard = self.standard;
         self.run_described(
             Function::DoStep,
-            || format!("fmi2DoStep(t = {current}, h = {h})"),
+            move || {
+                let name = Function::DoStep.name_in(standard);
+                format!("{name}(t = {current}, h = {h})")
+            },
             |inst| {
                 inst.model.step(current, h).map_err(|e| e.to_string())?;
                 Ok(Status::Ok)
@@ -745,7 +755,7 @@ impl Instance {
     fn status_not_available(&mut self, function: Function, kind: fmi2StatusKind) -> Outcome {
         let text = format!(
             "{}: status kind {kind} is not available (steps are synchronous)",
-            function.name()
+            function.name_in(self.standard)
         );
         self.log(Status::Discard, Category::Warning, text);
         Ok(Status::Discard)
@@ -794,5 +804,6 @@ impl Instance {
     }
 }
 
+mod fmi3;
 #[cfg(test)]
 mod tests;

@@ -1,4 +1,10 @@
-//! The FMI 2.0 co-simulation interface, in two depths.
+//! The FMI 2.0 co-simulation interface, in two depths, and FMI 3.0's over the same instance.
+//!
+//! FMI 3.0 (docs/FMI3.md): the `fmi3...` functions (`abi/fmi3.rs`) call the same
+//! [`Instance`], made through `fmi3InstantiateCoSimulation` ([`Instance::instantiate_fmi3`];
+//! its messages name the FMI 3.0 functions, [`Standard`]); the matrices are array variables
+//! and `time` a variable ([`crate::fmu::fmi3`]). FMI 3.0 co-simulation without event mode has
+//! the FMI 2.0 state machine, so the phase table below serves both.
 //!
 //! - The C layer (module `abi`, see "C layer" below): the 34 common and co-simulation
 //!   functions, exported unprefixed (`fmi2Instantiate`, `fmi2DoStep`, ...). The only module
@@ -58,6 +64,6 @@ mod uri;
 pub use abi::*;
 pub use instance::{Instance, Snapshot};
 pub use logging::{Category, Message};
-pub use phase::{allowed, Function, Phase, PhaseSet};
+pub use phase::{allowed, Function, Phase, PhaseSet, Standard};
 pub use types::*;
 pub use uri::resource_path;

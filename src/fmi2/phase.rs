@@ -165,7 +165,35 @@ impl Function {
         ]
     };
 
-    /// The C name.
+    /// The C name in `standard`: the FMI 3.0 function that does this function's work (for
+    /// fmi2SetupExperiment, fmi3EnterInitializationMode, which takes its arguments).
+    pub fn name_in(self, standard: Standard) -> &'static str {
+        use Function::*;
+        match (standard, self) {
+            (Standard::Fmi2, _) => self.name(),
+            (Standard::Fmi3, SetupExperiment | EnterInitializationMode) => {
+                "fmi3EnterInitializationMode"
+            }
+            (Standard::Fmi3, GetReal) => "fmi3GetFloat64",
+            (Standard::Fmi3, GetInteger) => "fmi3GetInt32",
+            (Standard::Fmi3, SetReal) => "fmi3SetFloat64",
+            (Standard::Fmi3, SetInteger) => "fmi3SetInt32",
+            (Standard::Fmi3, GetFmuState) => "fmi3GetFMUState",
+            (Standard::Fmi3, SetFmuState) => "fmi3SetFMUState",
+            (Standard::Fmi3, FreeFmuState) => "fmi3FreeFMUState",
+            (Standard::Fmi3, SerializedFmuStateSize) => "fmi3SerializedFMUStateSize",
+            (Standard::Fmi3, SerializeFmuState) => "fmi3SerializeFMUState",
+            (Standard::Fmi3, DeSerializeFmuState) => "fmi3DeserializeFMUState",
+            (Standard::Fmi3, GetRealOutputDerivatives) => "fmi3GetOutputDerivatives",
+            // The rest keep their FMI 2.0 name with the prefix changed.
+            (Standard::Fmi3, f) => FMI3_SAME_NAMES
+                .iter()
+                .find(|(g, _)| *g == f)
+                .map_or("fmi3 (no equivalent)", |(_, n)| n),
+        }
+    }
+
+    /// The FMI 2.0 C name.
     pub fn name(self) -> &'static str {
         use Function::*;
         match self {
@@ -201,6 +229,36 @@ impl Function {
             GetStringStatus => "fmi2GetStringStatus",
         }
     }
+}
+
+/// The functions FMI 3.0 keeps under the same name (prefix fmi3).
+const FMI3_SAME_NAMES: [(Function, &str); 10] = [
+    (Function::SetDebugLogging, "fmi3SetDebugLogging"),
+    (
+        Function::ExitInitializationMode,
+        "fmi3ExitInitializationMode",
+    ),
+    (Function::Terminate, "fmi3Terminate"),
+    (Function::Reset, "fmi3Reset"),
+    (Function::GetBoolean, "fmi3GetBoolean"),
+    (Function::GetString, "fmi3GetString"),
+    (Function::SetBoolean, "fmi3SetBoolean"),
+    (Function::SetString, "fmi3SetString"),
+    (Function::DoStep, "fmi3DoStep"),
+    (
+        Function::GetDirectionalDerivative,
+        "fmi3GetDirectionalDerivative",
+    ),
+];
+
+/// The standard an instance was made through: it names the functions in log messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Standard {
+    /// FMI 2.0 (`fmi2Instantiate`).
+    Fmi2,
+    /// FMI 3.0 (`fmi3InstantiateCoSimulation`); the phase "stepComplete" is FMI 3.0's
+    /// "Step Mode".
+    Fmi3,
 }
 
 /// Allowed.

@@ -215,11 +215,12 @@ impl Layout {
         Ok(())
     }
 
-    fn write_structure(
+    /// Every output with the inputs it depends on directly (by 1-based index) and the kind
+    /// of the dependency, in index order.
+    pub(super) fn output_dependencies(
         &self,
-        w: &mut Writer<Vec<u8>>,
         info: &DescriptionInfo,
-    ) -> Result<(), quick_xml::Error> {
+    ) -> Vec<(usize, Vec<usize>, &'static str)> {
         let n = self.dofs.len();
         let nonzero = |m: &Option<DMatrix<f64>>, i: usize, j: usize| match m {
             Some(m) if m.nrows() == n && m.ncols() == n => m[(i, j)] != 0.0,
@@ -235,7 +236,7 @@ impl Layout {
         } else {
             Vec::new()
         };
-        let mut outputs: Vec<(usize, Vec<usize>, &str)> = Vec::new();
+        let mut outputs: Vec<(usize, Vec<usize>, &'static str)> = Vec::new();
         for i in 0..n {
             let mut deps: Vec<usize> = (0..n)
                 .filter(|&j| nonzero(&info.damping_direct, i, j))
@@ -281,7 +282,15 @@ impl Layout {
         }
         outputs.push((self.index_of(Quantity::WaveElevation), Vec::new(), "fixed"));
         outputs.sort_by_key(|o| o.0);
+        outputs
+    }
 
+    fn write_structure(
+        &self,
+        w: &mut Writer<Vec<u8>>,
+        info: &DescriptionInfo,
+    ) -> Result<(), quick_xml::Error> {
+        let outputs = self.output_dependencies(info);
         let text = |w: &mut Writer<Vec<u8>>, s: &str| {
             w.write_event(Event::Text(BytesText::from_escaped(s)))
         };

@@ -660,7 +660,7 @@ impl Model {
             WaveParameter::Ramp => waves.ramp = value,
             other => {
                 return Err(ModelError::Variable(format!(
-                    "{other:?} is an Integer parameter: set it with fmi2SetInteger"
+                    "{other:?} is an Integer parameter: set it with fmi2SetInteger or fmi3SetInt32"
                 )))
             }
         }
@@ -687,7 +687,7 @@ impl Model {
             }
             other => {
                 return Err(ModelError::Variable(format!(
-                    "{other:?} is a Real parameter: set it with fmi2SetReal"
+                    "{other:?} is a Real parameter: set it with fmi2SetReal or fmi3SetFloat64"
                 )))
             }
         }

@@ -90,7 +90,7 @@ impl Stepper {
             if time > stop + TIME_TOLERANCE * stop.abs().max(h) {
                 return Err(ModelError::Step(format!(
                     "the step from time {current} by {h} ends at {time}, past the stop time \
-                     {stop} set by fmi2SetupExperiment"
+                     {stop} set at initialization (fmi2SetupExperiment, fmi3EnterInitializationMode)"
                 )));
             }
         }

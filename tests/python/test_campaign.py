@@ -114,3 +114,51 @@ def test_the_same_case_under_libcosim_gives_the_same_record(barge):
     assert cosim_dofs == dofs
     scale = np.max(np.abs(fmpy_record), axis=0)
     assert np.all(np.max(np.abs(cosim_record - fmpy_record), axis=0) < 1e-11 * scale)
+
+
+def test_the_campaign_script_runs_on_a_scheduler_given_by_address(barge, tmp_path):
+    """`campaign.py --scheduler tcp://HOST:PORT` against a scheduler and two workers started as
+    separate processes by the `dask` command line, as on a real cluster (the workers get the
+    campaign module by upload, the archive by scatter): every case runs, and the rows equal a
+    serial run in this process bit for bit."""
+    import socket
+    import subprocess
+
+    sys.path.insert(0, str(ROOT / "examples" / "campaigns"))
+    import campaign  # noqa: E402
+
+    path, _ = barge
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    dask = pathlib.Path(sys.executable).parent / "dask"
+    work = tmp_path / "workers"  # the workers' own folder: nothing shared with this process
+    work.mkdir()
+    scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                                  "--no-dashboard"], cwd=work, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    workers = subprocess.Popen([str(dask), "worker", address, "--nworkers", "2", "--nthreads", "1",
+                                "--no-dashboard", "--local-directory", str(work)], cwd=work,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        from distributed import Client
+
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+        csv_path = tmp_path / "campaign.csv"
+        rows = campaign.main(["--quick", "--scheduler", address, "--fmu", f"barge={path}",
+                              "--duration", "100", "--ramp", "10", "--csv", str(csv_path)])
+    finally:
+        workers.terminate()
+        scheduler.terminate()
+        workers.wait(timeout=60)
+        scheduler.wait(timeout=60)
+    # --quick: 2 Tp x 2 headings x the barge, one row per DOF.
+    assert len(rows) == 2 * 2 * 2
+    assert csv_path.is_file() and len(csv_path.read_text().splitlines()) == len(rows) + 1
+    cases = hc.make_cases({"barge": path}, [(campaign.HS, tp, campaign.GAMMA) for tp in campaign.QUICK["tps"]],
+                          campaign.QUICK["headings"], [1], duration=100.0, ramp=10.0, step=0.1)
+    serial = hc.run_serial(cases, {"barge": path})
+    assert [r["record_sha256"] for r in rows] == [r["record_sha256"] for r in serial]
+    for a, b in zip(rows, serial):
+        assert all(a[c] == b[c] for c in hc.STAT_COLUMNS), (a, b)

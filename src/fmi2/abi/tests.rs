@@ -62,8 +62,8 @@ static COUNTER: AtomicUsize = AtomicUsize::new(0);
 
 /// An unpacked FMU's resources folder on disk.
 pub(super) struct Unpacked {
-    dir: PathBuf,
-    guid: CString,
+    pub(super) dir: PathBuf,
+    pub(super) guid: CString,
 }
 
 impl Unpacked {
@@ -122,7 +122,7 @@ pub(super) fn instantiate(
 }
 
 /// Instantiated and initialized at rho = g = 1.
-fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
+pub(super) fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
     let c = instantiate(fmu, &fmu.uri(), functions, false);
     assert!(!c.is_null());
     // SAFETY: see the module docs.
@@ -137,7 +137,7 @@ fn ready(fmu: &Unpacked, functions: &fmi2CallbackFunctions) -> fmi2Component {
 
 /// # Safety
 /// `c` is a live component.
-unsafe fn set(c: fmi2Component, vr: &[u32], v: &[f64]) {
+pub(super) unsafe fn set(c: fmi2Component, vr: &[u32], v: &[f64]) {
     assert_eq!(v.len(), vr.len());
     // SAFETY: a live component (caller) and two arrays of vr.len() entries.
     let status = unsafe { fmi2SetReal(c, vr.as_ptr(), vr.len(), v.as_ptr()) };
@@ -146,7 +146,7 @@ unsafe fn set(c: fmi2Component, vr: &[u32], v: &[f64]) {
 
 /// # Safety
 /// `c` is a live component.
-unsafe fn get(c: fmi2Component, vr: &[u32]) -> Vec<f64> {
+pub(super) unsafe fn get(c: fmi2Component, vr: &[u32]) -> Vec<f64> {
     let mut out = vec![0.0; vr.len()];
     // SAFETY: a live component (caller) and two arrays of vr.len() entries.
     let status = unsafe { fmi2GetReal(c, vr.as_ptr(), vr.len(), out.as_mut_ptr()) };

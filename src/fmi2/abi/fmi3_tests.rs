@@ -1,0 +1,420 @@
+//! The FMI 3.0 C functions exercised from Rust: the same numbers as the FMI 2.0 functions,
+//! the arrays and `time`, and every function this FMU refuses.
+//!
+//! Every `unsafe` block calls the exported functions with an instance made by
+//! [`instantiate3`] (or NULL or another standard's instance where the test says so) and
+//! pointers to live locals with the entry counts passed.
+
+use super::tests::{callbacks, get, ready, set, Log, Unpacked};
+use super::*;
+use crate::fmi2::phase::Phase;
+use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
+use crate::fmu::VR_TIME;
+use crate::model::tests::SEED_NETWORK;
+use std::ffi::c_void;
+use std::sync::Mutex;
+
+/// Log lines of an FMI 3.0 instance: (status, category, message).
+type Log3 = Mutex<Vec<(i32, String, String)>>;
+
+unsafe extern "C" fn logger3(
+    env: fmi3InstanceEnvironment,
+    status: fmi3Status,
+    category: fmi3String,
+    message: fmi3String,
+) {
+    // SAFETY: `env` is the `Log3` given at instantiation, which outlives the instance.
+    let log = unsafe { &*(env as *const Log3) };
+    // SAFETY: the FMU passes NUL-terminated strings.
+    let text = |p: fmi3String| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
+    log.lock()
+        .unwrap()
+        .push((status, text(category), text(message)));
+}
+
+fn instantiate3(fmu: &Unpacked, token: &CStr, log: &Log3) -> fmi3Instance {
+    let path = CString::new(format!("{}/", fmu.dir.display())).unwrap();
+    // SAFETY: NUL-terminated strings and a logger environment that outlives the instance.
+    unsafe {
+        fmi3InstantiateCoSimulation(
+            c"hull3".as_ptr(),
+            token.as_ptr(),
+            path.as_ptr(),
+            0,
+            0,
+            0,
+            0,
+            std::ptr::null(),
+            0,
+            log as *const Log3 as *mut c_void,
+            Some(logger3),
+            std::ptr::null(),
+        )
+    }
+}
+
+/// Instantiated and initialized at rho = g = 1.
+fn ready3(fmu: &Unpacked, log: &Log3) -> fmi3Instance {
+    let c = instantiate3(fmu, &fmu.guid, log);
+    assert!(!c.is_null(), "{:?}", log.lock().unwrap());
+    // SAFETY: see the module docs.
+    unsafe {
+        set3(c, &[VR_RHO, VR_G], &[1.0, 1.0]);
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+        assert_eq!(fmi3ExitInitializationMode(c), fmi3OK);
+    }
+    c
+}
+
+/// # Safety
+/// `c` is a live FMI 3.0 instance.
+unsafe fn set3(c: fmi3Instance, vr: &[u32], v: &[f64]) {
+    // SAFETY: a live instance (caller) and arrays of the lengths passed.
+    let status = unsafe { fmi3SetFloat64(c, vr.as_ptr(), vr.len(), v.as_ptr(), v.len()) };
+    assert_eq!(status, fmi3OK);
+}
+
+/// # Safety
+/// `c` is a live FMI 3.0 instance.
+unsafe fn get3(c: fmi3Instance, vr: &[u32], n_values: usize) -> (fmi3Status, Vec<f64>) {
+    let mut out = vec![f64::NAN; n_values];
+    // SAFETY: a live instance (caller) and arrays of the lengths passed.
+    let status = unsafe { fmi3GetFloat64(c, vr.as_ptr(), vr.len(), out.as_mut_ptr(), n_values) };
+    (status, out)
+}
+
+/// # Safety
+/// `c` is a live instance, not in use.
+unsafe fn phase3(c: fmi3Instance) -> Phase {
+    // SAFETY: the caller's contract; a shared reference for this read only.
+    unsafe { &(*(c as *const Component)).instance }.phase()
+}
+
+const VELOCITY: u32 = FIRST_PER_HULL_REFERENCE;
+const FORCE: u32 = FIRST_PER_HULL_REFERENCE + 1;
+const POWER: u32 = FIRST_PER_HULL_REFERENCE + 2;
+
+#[test]
+fn version() {
+    // SAFETY: a static NUL-terminated string.
+    let v = unsafe { CStr::from_ptr(fmi3GetVersion()) };
+    assert_eq!(v.to_str().unwrap(), "3.0");
+}
+
+#[test]
+fn a_run_equals_the_fmi2_run_bit_for_bit() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let (log2, log3) = (Log::default(), Log3::default());
+    let functions = callbacks(&log2);
+    let c2 = ready(&fmu, &functions);
+    let c3 = ready3(&fmu, &log3);
+    // SAFETY: see the module docs.
+    unsafe {
+        let mut t: f64 = 0.0;
+        for k in 0..400 {
+            let v = (0.9 * t).sin() + 0.3 * (2.3 * t).cos();
+            set(c2, &[VELOCITY], &[v]);
+            set3(c3, &[VELOCITY], &[v]);
+            assert_eq!(fmi2DoStep(c2, t, 0.01, 1), fmi2OK);
+            let (mut event, mut stop, mut early, mut last) = (1u8, 1u8, 1u8, -1.0);
+            let status = fmi3DoStep(c3, t, 0.01, 1, &mut event, &mut stop, &mut early, &mut last);
+            assert_eq!(status, fmi3OK);
+            assert_eq!((event, stop, early), (0, 0, 0));
+            t = (k + 1) as f64 * 0.01;
+            assert_eq!(last, t);
+            let (status, f3) = get3(c3, &[FORCE, POWER, VR_TIME], 3);
+            assert_eq!(status, fmi3OK);
+            let f2 = get(c2, &[FORCE, POWER]);
+            assert_eq!(f3[..2], f2[..], "step {k}");
+            assert_eq!(f3[2], t);
+        }
+        // Directional and output derivatives as in FMI 2.0.
+        let (seed, mut d) = (1.0, 0.0);
+        let status = fmi3GetDirectionalDerivative(c3, &FORCE, 1, &VELOCITY, 1, &seed, 1, &mut d, 1);
+        assert_eq!(status, fmi3OK);
+        assert_eq!(d, -0.9962);
+        let (order, mut d3, mut d2) = (1, 0.0, 0.0);
+        assert_eq!(
+            fmi3GetOutputDerivatives(c3, &FORCE, 1, &order, &mut d3, 1),
+            fmi3OK
+        );
+        assert_eq!(
+            fmi2GetRealOutputDerivatives(c2, &FORCE, 1, &order, &mut d2),
+            fmi2OK
+        );
+        assert_eq!(d3, d2);
+        assert_eq!(fmi3Terminate(c3), fmi3OK);
+        fmi3FreeInstance(c3);
+        fmi2FreeInstance(c2);
+    }
+    assert!(
+        log3.lock().unwrap().is_empty(),
+        "{:?}",
+        log3.lock().unwrap()
+    );
+}
+
+#[test]
+fn matrices_are_arrays_and_their_inner_entries_are_not_variables() {
+    let two = crate::model::tests::TWO_DOF_NETWORK;
+    let fmu = Unpacked::new(two, true, "resources");
+    let log3 = Log3::default();
+    let log2 = Log::default();
+    let c3 = ready3(&fmu, &log3);
+    let c2 = ready(&fmu, &callbacks(&log2));
+    let n = 2u32;
+    let layout = crate::fmu::Layout::new(
+        ["a", "b"]
+            .iter()
+            .map(|d| crate::fmu::DofUnit::new(d, 0, false))
+            .collect(),
+        true,
+    )
+    .unwrap();
+    let first = |q| layout.value_reference(q).unwrap();
+    let added = first(crate::fmu::Quantity::AddedMassInf(0, 0));
+    let damping = first(crate::fmu::Quantity::DampingDirect(0, 0));
+    // SAFETY: see the module docs.
+    unsafe {
+        let (status, values) = get3(c3, &[added, damping], (2 * n * n) as usize);
+        assert_eq!(status, fmi3OK);
+        let scalars: Vec<u32> = (0..n * n)
+            .map(|k| added + k)
+            .chain((0..n * n).map(|k| damping + k))
+            .collect();
+        assert_eq!(values, get(c2, &scalars));
+        assert!(values.iter().any(|v| *v != 0.0));
+        // Too few values for the array: refused, the instance goes to the error state.
+        let (status, _) = get3(c3, &[added], 3);
+        assert_eq!(status, fmi3Error);
+        assert_eq!(phase3(c3), Phase::Error);
+        assert_eq!(fmi3Reset(c3), fmi3OK);
+        // An inner entry, time as an input, an array as an input: refused.
+        for (vr, count) in [(added + 1, 1), (VR_TIME, 1), (added, 4)] {
+            let v = vec![1.0; count];
+            assert_eq!(
+                fmi3SetFloat64(c3, &vr, 1, v.as_ptr(), count),
+                fmi3Error,
+                "{vr}"
+            );
+            assert_eq!(fmi3Reset(c3), fmi3OK);
+        }
+        let (status, _) = get3(c3, &[added + 1], 1);
+        assert_eq!(status, fmi3Error);
+        fmi3FreeInstance(c3);
+        fmi2FreeInstance(c2);
+    }
+    let log = log3.lock().unwrap();
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.contains("unknown value reference")),
+        "{log:?}"
+    );
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.starts_with("fmi3SetFloat64: ")),
+        "{log:?}"
+    );
+}
+
+#[test]
+fn standards_do_not_mix_and_bad_instantiations_give_null() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let log2 = Log::default();
+    let c3 = ready3(&fmu, &log3);
+    let c2 = ready(&fmu, &callbacks(&log2));
+    // SAFETY: see the module docs; each call gets a live instance of the other standard,
+    // which it must refuse without touching.
+    unsafe {
+        assert_eq!(fmi2DoStep(c3, 0.0, 0.1, 1), fmi2Error);
+        let (mut a, mut b, mut e, mut t) = (0u8, 0u8, 0u8, 0.0);
+        assert_eq!(
+            fmi3DoStep(c2, 0.0, 0.1, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3Error
+        );
+        assert_eq!(
+            fmi3DoStep(
+                std::ptr::null_mut(),
+                0.0,
+                0.1,
+                1,
+                &mut a,
+                &mut b,
+                &mut e,
+                &mut t
+            ),
+            fmi3Error
+        );
+        fmi2FreeInstance(c3); // not an FMI 2.0 instance: ignored
+        assert_eq!(phase3(c3), Phase::StepComplete);
+        fmi3FreeInstance(c3);
+        fmi2FreeInstance(c2);
+    }
+    let wrong = Log3::default();
+    assert!(instantiate3(&fmu, c"{not-the-token}", &wrong).is_null());
+    let lines = wrong.lock().unwrap();
+    assert!(
+        lines[0]
+            .2
+            .contains("instantiationToken {not-the-token} does not match"),
+        "{lines:?}"
+    );
+    let refused = Log3::default();
+    let env = &refused as *const Log3 as *mut c_void;
+    // SAFETY: NUL-terminated strings and a logger environment that outlives the calls.
+    unsafe {
+        let me = fmi3InstantiateModelExchange(
+            c"m".as_ptr(),
+            fmu.guid.as_ptr(),
+            c"/".as_ptr(),
+            0,
+            0,
+            env,
+            Some(logger3),
+        );
+        assert!(me.is_null());
+        let null = std::ptr::null();
+        let se = fmi3InstantiateScheduledExecution(
+            c"s".as_ptr(),
+            fmu.guid.as_ptr(),
+            c"/".as_ptr(),
+            0,
+            0,
+            env,
+            Some(logger3),
+            null,
+            null,
+            null,
+        );
+        assert!(se.is_null());
+    }
+    let lines = refused.lock().unwrap();
+    assert_eq!(lines.len(), 2);
+    assert!(lines[0].2.contains("co-simulation only"), "{lines:?}");
+}
+
+#[test]
+fn functions_of_undeclared_features_refuse_and_leave_the_state() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let c = ready3(&fmu, &log3);
+    let vr = VELOCITY;
+    let mut x = 0.0;
+    let mut n = 0usize;
+    let mut b = 0u8;
+    // SAFETY: see the module docs; refused calls read none of their pointers.
+    unsafe {
+        let null = std::ptr::null_mut();
+        let refused = [
+            fmi3EnterEventMode(c),
+            fmi3EnterStepMode(c),
+            fmi3EnterConfigurationMode(c),
+            fmi3ExitConfigurationMode(c),
+            fmi3EvaluateDiscreteStates(c),
+            fmi3UpdateDiscreteStates(c, &mut b, &mut b, &mut b, &mut b, &mut b, &mut x),
+            fmi3EnterContinuousTimeMode(c),
+            fmi3SetTime(c, 1.0),
+            fmi3GetNumberOfContinuousStates(c, &mut n),
+            fmi3GetClock(c, &vr, 1, &mut b),
+            fmi3GetIntervalDecimal(c, &vr, 1, &mut x, null),
+            fmi3ActivateModelPartition(c, vr, 0.0),
+            fmi3GetAdjointDerivative(c, &FORCE, 1, &VELOCITY, 1, &x, 1, &mut x, 1),
+            fmi3GetNumberOfVariableDependencies(c, FORCE, &mut n),
+        ];
+        assert!(refused.iter().all(|s| *s == fmi3Error), "{refused:?}");
+        assert_eq!(phase3(c), Phase::StepComplete);
+        // Types without variables: an empty list succeeds, a reference does not.
+        let mut i8v = 0i8;
+        assert_eq!(fmi3GetInt8(c, std::ptr::null(), 0, &mut i8v, 0), fmi3OK);
+        assert_eq!(fmi3GetInt8(c, &vr, 1, &mut i8v, 1), fmi3Error);
+        assert_eq!(fmi3Reset(c), fmi3OK);
+        // Int32: the wave parameters, as FMI 2.0's Integers.
+        let kind = crate::fmu::description::VR_WAVE_KIND;
+        let k = 2;
+        assert_eq!(fmi3SetInt32(c, &kind, 1, &k, 1), fmi3OK);
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+        let mut k = -1;
+        assert_eq!(fmi3GetInt32(c, &kind, 1, &mut k, 1), fmi3OK);
+        assert_eq!(k, 2);
+        fmi3FreeInstance(c);
+    }
+    let log = log3.lock().unwrap();
+    assert!(log.iter().any(|(_, _, m)| m == "fmi3EnterEventMode: this FMU has no event mode (hasEventMode = false) (call refused)"), "{log:?}");
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.contains("fmi3GetInt8: this FMU has no Int8 variables")),
+        "{log:?}"
+    );
+}
+
+#[test]
+fn state_round_trips_through_bytes_and_a_bad_step_moves_nothing() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let c = ready3(&fmu, &log3);
+    let (mut a, mut b, mut e, mut t) = (0u8, 0u8, 0u8, 0.0);
+    // SAFETY: see the module docs.
+    unsafe {
+        set3(c, &[VELOCITY], &[1.5]);
+        assert_eq!(
+            fmi3DoStep(c, 0.0, 0.1, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3OK
+        );
+        let mut state: fmi3FMUState = std::ptr::null_mut();
+        assert_eq!(fmi3GetFMUState(c, &mut state), fmi3OK);
+        let mut size = 0;
+        assert_eq!(fmi3SerializedFMUStateSize(c, state, &mut size), fmi3OK);
+        let mut bytes = vec![0u8; size];
+        assert_eq!(
+            fmi3SerializeFMUState(c, state, bytes.as_mut_ptr(), size),
+            fmi3OK
+        );
+        assert_eq!(
+            fmi3DoStep(c, 0.1, 0.1, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3OK
+        );
+        let after = get3(c, &[FORCE], 1).1;
+        let mut restored: fmi3FMUState = std::ptr::null_mut();
+        assert_eq!(
+            fmi3DeserializeFMUState(c, bytes.as_ptr(), size, &mut restored),
+            fmi3OK
+        );
+        assert_eq!(fmi3SetFMUState(c, restored), fmi3OK);
+        assert_eq!(get3(c, &[VR_TIME], 1).1, [0.1]);
+        assert_eq!(
+            fmi3DoStep(c, 0.1, 0.1, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3OK
+        );
+        assert_eq!(get3(c, &[FORCE], 1).1, after);
+        // A NULL output pointer of fmi3DoStep: refused before the step.
+        let status = fmi3DoStep(c, 0.2, 0.1, 1, std::ptr::null_mut(), &mut b, &mut e, &mut t);
+        assert_eq!(status, fmi3Error);
+        assert_eq!(get3(c, &[VR_TIME], 1).1, [0.2]);
+        // NaN input: refused, nothing set.
+        let nan = f64::NAN;
+        assert_eq!(reset_and_set_velocity(c, nan), fmi3Error);
+        assert_eq!(fmi3FreeFMUState(c, &mut state), fmi3OK);
+        assert!(state.is_null());
+        assert_eq!(fmi3FreeFMUState(c, &mut restored), fmi3OK);
+        fmi3FreeInstance(c);
+    }
+    let log = log3.lock().unwrap();
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.contains("eventHandlingNeeded")),
+        "{log:?}"
+    );
+}
+
+/// fmi3SetFloat64 of one velocity after a reset (a bad call left the error state).
+///
+/// # Safety
+/// `c` is a live FMI 3.0 instance.
+unsafe fn reset_and_set_velocity(c: fmi3Instance, v: f64) -> fmi3Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        assert_eq!(fmi3Reset(c), fmi3OK);
+        fmi3SetFloat64(c, &VELOCITY, 1, &v, 1)
+    }
+}
