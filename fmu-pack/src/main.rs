@@ -16,6 +16,7 @@ mod body;
 mod database_cmd;
 mod fit_cmd;
 mod hull_arg;
+mod osp;
 mod output;
 mod pack;
 mod pipeline;

@@ -152,6 +152,8 @@ pub struct PackSummary {
     pub fit: Option<String>,
     /// What the scene's FMU leaves out, when the network was computed.
     pub scene: Option<String>,
+    /// The OSP model description written beside the archive.
+    pub osp: Option<PathBuf>,
 }
 
 /// A network computed for the archive: the pipeline's products and the scene report.
@@ -178,6 +180,9 @@ impl fmt::Display for PackSummary {
                 "outside (add added_mass_inf to the hull's mass)"
             }
         )?;
+        if let Some(osp) = &self.osp {
+            write!(f, "\n  OSP description  {}", osp.display())?;
+        }
         if let Some(fit) = &self.fit {
             write!(f, "\n  fit              {fit}")?;
         }
@@ -392,10 +397,12 @@ pub fn pack_network(
         Layout::with_extent(units, keep_inf_mass, hull.extent).map_err(|e| e.to_string())?;
     let guid = resources.guid();
     let system = model.system();
+    let model_name = format!("hydrofmu {}", hull.name);
+    let osp = crate::osp::model_description(&layout);
     let info = DescriptionInfo {
         model_identifier: model_identifier.to_string(),
         guid: guid.clone(),
-        model_name: Some(format!("hydrofmu {}", hull.name)),
+        model_name: Some(model_name.clone()),
         description: Some(format!(
             "Hydrodynamic radiation forces on hull '{}' (DOFs {}), equivalent mass-spring-damper network with {} states",
             hull.name,
@@ -486,7 +493,12 @@ pub fn pack_network(
     if let Some(text) = &scene_entry {
         entries.push((SCENE_FILE.into(), format!("{text}\n").into_bytes()));
     }
+    if let Some(name) = crate::osp::file_name(&model_name) {
+        let path = format!("{}/{name}", crate::osp::ARCHIVE_DIR);
+        entries.push((path, osp.clone().into_bytes()));
+    }
     write_zip(output, &entries)?;
+    let osp = crate::osp::write_beside(output, &model_name, &osp)?;
     Ok(PackSummary {
         path: output.to_path_buf(),
         model_identifier: model_identifier.to_string(),
@@ -494,6 +506,7 @@ pub fn pack_network(
         dofs: model.dof_names().to_vec(),
         states: system.state_size(),
         keep_inf_mass,
+        osp,
         scene: scene_entry,
         fit: fit.map(|Fitted { built: b, .. }| {
             format!(
@@ -992,6 +1005,7 @@ mod tests {
         assert_eq!(found.resources_guid, summary.guid);
         assert_eq!(found.model_identifier, "Seed_1");
         assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
+        let osp_name = format!("{}_OspModelDescription.xml", found.model_name);
         let mut names = found.entries.clone();
         names.sort();
         assert_eq!(
@@ -999,12 +1013,22 @@ mod tests {
             vec![
                 "binaries/linux64/Seed_1.so",
                 "documentation/index.html",
+                &format!("extra/com.open-simulation-platform/{osp_name}"),
                 "modelDescription.xml",
                 "resources/hull.xml",
                 "resources/network.xml",
                 "resources/options.xml",
             ]
         );
+        // The OSP model description beside the archive is the one inside it.
+        let beside = summary.osp.clone().unwrap();
+        assert_eq!(beside, dir.join(&osp_name));
+        let inside = read_entry(
+            &mut zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap(),
+            &format!("extra/com.open-simulation-platform/{osp_name}"),
+        )
+        .unwrap();
+        assert_eq!(inside, Some(std::fs::read_to_string(&beside).unwrap()));
         let mut archive = zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap();
         for i in 0..archive.len() {
             let f = archive.by_index(i).unwrap();

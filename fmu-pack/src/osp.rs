@@ -1,0 +1,453 @@
+//! The OSP model description (OSP Interface Specification, `OspModelDescription.xml`) of a
+//! packed FMU: the units of its force and velocity variables and the variable groups by which
+//! libcosim connects it to other models (`VariableGroupConnection` in `OspSystemStructure.xml`).
+//!
+//! libcosim reads `<modelName>_OspModelDescription.xml` (the modelName of the FMU's
+//! `modelDescription.xml`, not the file name) from the folder of the `.fmu` file, else from the
+//! folder of `OspSystemStructure.xml`; it never looks inside the archive. `fmu-pack pack`
+//! therefore writes the file beside the archive, and ships a copy in the archive under
+//! [`ARCHIVE_DIR`] so that it travels with the FMU.
+//!
+//! Groups, by DOF (d in the hull's order):
+//!
+//! | group | kind | members |
+//! | --- | --- | --- |
+//! | `translation` | LinearMechanicalPort | Force `translation.force` = `force.d`, LinearVelocity `translation.velocity` = `velocity.d` for d in surge, sway, heave |
+//! | `rotation` | AngularMechanicalPort | Torque `rotation.torque`, AngularVelocity `rotation.velocity` for d in roll, pitch, yaw |
+//! | `mode_d` | one port per other DOF | LinearMechanicalPort (a length coordinate), AngularMechanicalPort (an angle), else Generic [`force.d`, `velocity.d`] |
+//! | `force`, `force_radiation`, `force_excitation` | Generic | the outputs of every DOF |
+//! | `velocity` (`acceleration`) | Generic | the inputs of every DOF |
+//!
+//! libcosim connects two groups member by member in order, each pair from its output to its
+//! input, so a partner's port lists its force inputs and velocity outputs in the same DOF order.
+
+use hydrofmu::fmu::{Layout, Quantity};
+use hydrofmu::xml::escape;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// XML namespace of OSP-IS 1.0 model descriptions (as in the OSP demo cases).
+pub const NAMESPACE: &str = "https://open-simulation-platform.com/OspModelDescription/1.0.0";
+
+/// Folder of the copy inside the archive.
+pub const ARCHIVE_DIR: &str = "extra/com.open-simulation-platform";
+
+/// Exponents of kg, m, s and rad of the units the groups reference.
+const UNITS: [(&str, [i8; 4]); 9] = [
+    ("m/s", [0, 1, -1, 0]),
+    ("rad/s", [0, 0, -1, 1]),
+    ("1/s", [0, 0, -1, 0]),
+    ("m/s2", [0, 1, -2, 0]),
+    ("rad/s2", [0, 0, -2, 1]),
+    ("1/s2", [0, 0, -2, 0]),
+    ("N/m", [1, 0, -2, 0]),
+    ("N", [1, 1, -2, 0]),
+    ("N.m", [1, 2, -2, 0]),
+];
+
+/// A variable group: a kind (the XML element), a name, member variables and nested groups.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Group {
+    /// Element name: `LinearMechanicalPort`, `Force`, `Generic`, ...
+    pub kind: &'static str,
+    /// Group name, unique in the file.
+    pub name: String,
+    /// Variables (name, unit) in connection order.
+    pub variables: Vec<(String, &'static str)>,
+    /// Nested groups, in connection order.
+    pub groups: Vec<Group>,
+}
+
+impl Group {
+    fn leaf(kind: &'static str, name: String, variables: Vec<(String, &'static str)>) -> Group {
+        Group {
+            kind,
+            name,
+            variables,
+            groups: Vec::new(),
+        }
+    }
+
+    fn port(kind: &'static str, name: &str, effort: Group, flow: Group) -> Group {
+        Group {
+            kind,
+            name: name.to_string(),
+            variables: Vec::new(),
+            groups: vec![effort, flow],
+        }
+    }
+}
+
+/// The variable groups of a layout.
+pub fn groups(layout: &Layout) -> Vec<Group> {
+    let dofs = layout.dofs();
+    let by_quantity: HashMap<Quantity, (String, &'static str)> = layout
+        .variables()
+        .iter()
+        .map(|v| (v.quantity, (v.name.clone(), v.unit)))
+        .collect();
+    let member = |q: Quantity| by_quantity.get(&q).cloned();
+    let pick = |filter: &dyn Fn(usize) -> bool, of: fn(usize) -> Quantity| {
+        (0..dofs.len())
+            .filter(|&i| filter(i))
+            .filter_map(|i| member(of(i)))
+            .collect::<Vec<_>>()
+    };
+    let translational = |i: usize| {
+        matches!(dofs[i].name.as_str(), "surge" | "sway" | "heave") && dofs[i].length_exponent == 0
+    };
+    let rotational = |i: usize| {
+        matches!(dofs[i].name.as_str(), "roll" | "pitch" | "yaw")
+            && dofs[i].length_exponent == 1
+            && dofs[i].is_angle
+    };
+    let mut out = Vec::new();
+    let forces = pick(&translational, Quantity::Force);
+    if !forces.is_empty() {
+        out.push(Group::port(
+            "LinearMechanicalPort",
+            "translation",
+            Group::leaf("Force", "translation.force".into(), forces),
+            Group::leaf(
+                "LinearVelocity",
+                "translation.velocity".into(),
+                pick(&translational, Quantity::Velocity),
+            ),
+        ));
+    }
+    let torques = pick(&rotational, Quantity::Force);
+    if !torques.is_empty() {
+        out.push(Group::port(
+            "AngularMechanicalPort",
+            "rotation",
+            Group::leaf("Torque", "rotation.torque".into(), torques),
+            Group::leaf(
+                "AngularVelocity",
+                "rotation.velocity".into(),
+                pick(&rotational, Quantity::Velocity),
+            ),
+        ));
+    }
+    for (i, d) in dofs.iter().enumerate() {
+        if translational(i) || rotational(i) {
+            continue;
+        }
+        let name = format!("mode_{}", d.name);
+        let (Some(force), Some(velocity)) =
+            (member(Quantity::Force(i)), member(Quantity::Velocity(i)))
+        else {
+            continue;
+        };
+        let (port, effort, flow) = match (d.length_exponent, d.is_angle) {
+            (0, _) => ("LinearMechanicalPort", "Force", "LinearVelocity"),
+            (_, true) => ("AngularMechanicalPort", "Torque", "AngularVelocity"),
+            _ => {
+                out.push(Group::leaf("Generic", name, vec![force, velocity]));
+                continue;
+            }
+        };
+        out.push(Group::port(
+            port,
+            &name,
+            Group::leaf(effort, format!("{name}.force"), vec![force]),
+            Group::leaf(flow, format!("{name}.velocity"), vec![velocity]),
+        ));
+    }
+    let all = |of: fn(usize) -> Quantity| pick(&|_| true, of);
+    for (name, of) in [
+        ("force", Quantity::Force as fn(usize) -> Quantity),
+        ("force_radiation", Quantity::ForceRadiation),
+        ("force_excitation", Quantity::ForceExcitation),
+        ("velocity", Quantity::Velocity),
+        ("acceleration", Quantity::Acceleration),
+    ] {
+        let variables = all(of);
+        if !variables.is_empty() {
+            out.push(Group::leaf("Generic", name.into(), variables));
+        }
+    }
+    out
+}
+
+fn write_group(out: &mut String, group: &Group, depth: usize) {
+    let pad = "  ".repeat(depth);
+    let _ = writeln!(
+        out,
+        "{pad}<{} name=\"{}\">",
+        group.kind,
+        escape(&group.name)
+    );
+    for (name, unit) in &group.variables {
+        if UNITS.iter().any(|(u, _)| u == unit) {
+            let _ = writeln!(
+                out,
+                "{pad}  <Variable ref=\"{}\" unit=\"{}\"/>",
+                escape(name),
+                escape(unit)
+            );
+        } else {
+            let _ = writeln!(out, "{pad}  <Variable ref=\"{}\"/>", escape(name));
+        }
+    }
+    for nested in &group.groups {
+        write_group(out, nested, depth + 1);
+    }
+    let _ = writeln!(out, "{pad}</{}>", group.kind);
+}
+
+fn used_units(groups: &[Group], into: &mut Vec<&'static str>) {
+    for g in groups {
+        for (_, unit) in &g.variables {
+            if !into.contains(unit) {
+                into.push(unit);
+            }
+        }
+        used_units(&g.groups, into);
+    }
+}
+
+/// The OSP model description of a layout.
+pub fn model_description(layout: &Layout) -> String {
+    let groups = groups(layout);
+    let mut units = Vec::new();
+    used_units(&groups, &mut units);
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = writeln!(
+        out,
+        "<OspModelDescription xmlns=\"{NAMESPACE}\" version=\"1.0\">"
+    );
+    out.push_str("  <UnitDefinitions>\n");
+    for (name, [kg, m, s, rad]) in UNITS.iter().filter(|(u, _)| units.contains(u)) {
+        let _ = writeln!(
+            out,
+            "    <Unit name=\"{}\">\n      <BaseUnit kg=\"{kg}\" m=\"{m}\" s=\"{s}\" A=\"0\" K=\"0\" \
+             mol=\"0\" cd=\"0\" rad=\"{rad}\" factor=\"1.0\" offset=\"0.0\"/>\n    </Unit>",
+            escape(name)
+        );
+    }
+    out.push_str("  </UnitDefinitions>\n  <VariableGroups>\n");
+    for g in &groups {
+        write_group(&mut out, g, 2);
+    }
+    out.push_str("  </VariableGroups>\n</OspModelDescription>\n");
+    out
+}
+
+/// `<modelName>_OspModelDescription.xml`, the name libcosim looks for; `None` for a model
+/// name that cannot be a file name or an archive entry (a separator, `..`, a control).
+pub fn file_name(model_name: &str) -> Option<String> {
+    let bad = model_name.is_empty()
+        || model_name == "."
+        || model_name.contains("..")
+        || model_name
+            .chars()
+            .any(|c| c == '/' || c == '\\' || c.is_control());
+    (!bad).then(|| format!("{model_name}_OspModelDescription.xml"))
+}
+
+/// Writes the description beside `archive` when the archive is a regular file (not a device
+/// such as standard output); returns the path written.
+pub fn write_beside(
+    archive: &Path,
+    model_name: &str,
+    text: &str,
+) -> Result<Option<PathBuf>, String> {
+    if !std::fs::metadata(archive).is_ok_and(|m| m.is_file()) {
+        return Ok(None);
+    }
+    let Some(name) = file_name(model_name) else {
+        return Ok(None);
+    };
+    let dir = archive
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let path = dir.join(name);
+    if std::fs::read_to_string(&path).is_ok_and(|old| old != text) {
+        crate::output::stderr_line(&format!(
+            "fmu-pack: warning: {} replaced by another hull FMU's groups (one modelName per \
+             hull: keep FMUs of a hull with different DOFs in separate folders)",
+            path.display()
+        ));
+    }
+    std::fs::write(&path, text).map_err(|e| {
+        format!(
+            "the archive {} is written, but not the OSP model description {}: {e}",
+            archive.display(),
+            path.display()
+        )
+    })?;
+    Ok(Some(path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hydrofmu::fmu::{Causality, DofUnit, Extent};
+    use hydrofmu::xml::{parse, Element};
+
+    fn ship(keep: bool) -> Layout {
+        let dofs = ["surge", "sway", "heave", "roll", "pitch", "yaw"]
+            .iter()
+            .map(|n| {
+                let angle = matches!(*n, "roll" | "pitch" | "yaw");
+                DofUnit::new(n, u8::from(angle), angle)
+            })
+            .chain([
+                DofUnit::new("bend", 1, false),
+                DofUnit::new("cb1", 0, false),
+            ])
+            .collect();
+        Layout::with_extent(dofs, keep, Extent::WholeBody).unwrap()
+    }
+
+    fn section() -> Layout {
+        let dofs = ["sway", "heave", "roll", "cb3"]
+            .iter()
+            .map(|n| DofUnit::builtin(n).unwrap())
+            .collect();
+        Layout::new(dofs, false).unwrap()
+    }
+
+    /// DOF names like the group names, and many modes.
+    fn odd() -> Layout {
+        let mut dofs: Vec<DofUnit> = ["force", "velocity", "translation", "mode_x", "x", "yaw"]
+            .iter()
+            .map(|n| DofUnit::new(n, 0, false))
+            .collect();
+        dofs.extend((0..200).map(|i| DofUnit::new(&format!("m{i}"), 1, i % 2 == 0)));
+        Layout::new(dofs, true).unwrap()
+    }
+
+    fn find<'a>(root: &'a Element, kind: &str, name: &str) -> &'a Element {
+        root.descendants()
+            .find(|e| e.name == kind && e.attribute("name") == Some(name))
+            .unwrap_or_else(|| panic!("no {kind} {name}"))
+    }
+
+    fn refs(group: &Element) -> Vec<String> {
+        group
+            .children
+            .iter()
+            .filter(|e| e.name == "Variable")
+            .map(|e| e.attribute("ref").unwrap().to_string())
+            .collect()
+    }
+
+    #[test]
+    fn every_reference_exists_with_its_causality_and_a_declared_unit() {
+        for layout in [ship(false), ship(true), section(), odd()] {
+            let text = model_description(&layout);
+            let root = parse(&text).unwrap();
+            assert_eq!(root.name, "OspModelDescription");
+            assert_eq!(root.attribute("xmlns"), Some(NAMESPACE));
+            let declared: Vec<&str> = root
+                .descendants()
+                .filter(|e| e.name == "Unit")
+                .map(|e| e.attribute("name").unwrap())
+                .collect();
+            let mut names = std::collections::BTreeSet::new();
+            for e in root.descendants() {
+                if let Some(name) = e.attribute("name").filter(|_| e.name != "Unit") {
+                    assert!(names.insert(name.to_string()), "group {name} twice");
+                }
+                if e.name != "Variable" {
+                    continue;
+                }
+                let name = e.attribute("ref").unwrap();
+                let v = layout.variables().iter().find(|v| v.name == name).unwrap();
+                assert_eq!(e.attribute("unit"), Some(v.unit), "{name}");
+                assert!(declared.contains(&v.unit), "{}", v.unit);
+                let expected = if name.starts_with("velocity.") || name.starts_with("acceleration.")
+                {
+                    Causality::Input
+                } else {
+                    Causality::Output
+                };
+                assert_eq!(v.causality, expected, "{name}");
+            }
+            for unit in root.descendants().filter(|e| e.name == "BaseUnit") {
+                for key in [
+                    "kg", "m", "s", "A", "K", "mol", "cd", "rad", "factor", "offset",
+                ] {
+                    assert!(unit.attribute(key).is_some(), "{key}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rigid_dofs_form_ports_and_other_dofs_their_own() {
+        let root = parse(&model_description(&ship(true))).unwrap();
+        let t = find(&root, "LinearMechanicalPort", "translation");
+        let kinds: Vec<&str> = t.children.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(kinds, ["Force", "LinearVelocity"]);
+        assert_eq!(
+            refs(find(&root, "Force", "translation.force")),
+            ["force.surge", "force.sway", "force.heave"]
+        );
+        assert_eq!(
+            refs(find(&root, "AngularVelocity", "rotation.velocity")),
+            ["velocity.roll", "velocity.pitch", "velocity.yaw"]
+        );
+        assert_eq!(
+            refs(find(&root, "Generic", "mode_bend")),
+            ["force.bend", "velocity.bend"]
+        );
+        assert_eq!(refs(find(&root, "Force", "mode_cb1.force")), ["force.cb1"]);
+        assert_eq!(refs(find(&root, "Generic", "acceleration")).len(), 8);
+        assert_eq!(refs(find(&root, "Generic", "force_excitation")).len(), 8);
+        // Section roll is an angle (a torque per unit length, in N).
+        let root = parse(&model_description(&section())).unwrap();
+        let torque = find(&root, "Torque", "rotation.torque");
+        assert_eq!(refs(torque), ["force.roll"]);
+        assert_eq!(torque.children[0].attribute("unit"), Some("N"));
+        assert_eq!(
+            refs(find(&root, "AngularVelocity", "mode_cb3.velocity")),
+            ["velocity.cb3"]
+        );
+        assert!(!model_description(&ship(false)).contains("acceleration"));
+        // A yaw that is a length is no rotation: its own linear port.
+        let root = parse(&model_description(&odd())).unwrap();
+        assert_eq!(refs(find(&root, "Force", "mode_yaw.force")), ["force.yaw"]);
+        assert!(!root
+            .descendants()
+            .any(|e| e.attribute("name") == Some("translation")));
+        assert_eq!(
+            refs(find(&root, "Generic", "mode_m1")),
+            ["force.m1", "velocity.m1"]
+        );
+    }
+
+    #[test]
+    fn file_names_follow_the_model_name() {
+        assert_eq!(
+            file_name("hydrofmu Semicircle").as_deref(),
+            Some("hydrofmu Semicircle_OspModelDescription.xml")
+        );
+        for bad in ["", "a/b", "..", "a..b", "a\\b", "a\nb"] {
+            assert_eq!(file_name(bad), None, "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn nothing_is_written_beside_a_device_or_a_missing_file() {
+        let dir = std::env::temp_dir().join(format!("fmu-pack-osp-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let archive = dir.join("X.fmu");
+        assert_eq!(write_beside(&archive, "m", "x").unwrap(), None);
+        assert_eq!(
+            write_beside(Path::new("/dev/null"), "m", "x").unwrap(),
+            None
+        );
+        std::fs::write(&archive, b"zip").unwrap();
+        let written = write_beside(&archive, "hydrofmu X", "text")
+            .unwrap()
+            .unwrap();
+        assert_eq!(written, dir.join("hydrofmu X_OspModelDescription.xml"));
+        assert_eq!(std::fs::read_to_string(&written).unwrap(), "text");
+        assert_eq!(write_beside(&archive, "a/b", "x").unwrap(), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
