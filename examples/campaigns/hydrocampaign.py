@@ -225,7 +225,9 @@ def run_dask(client, cases, archives: dict, show_progress: bool = False) -> list
     this module is uploaded to the workers (so a remote cluster needs only fmpy and numpy),
     and `client.map` runs one task per case. Rows come back in case order."""
     module = pathlib.Path(__file__).resolve()
-    client.upload_file(str(module))
+    # load=False: a scheduler in this process (a LocalCluster) would otherwise re-import this
+    # module from its scratch copy, and __file__ would point there once the cluster is gone.
+    client.upload_file(str(module), load=False)
     payloads = {
         name: client.scatter(archive_payload(path), broadcast=True, hash=False) for name, path in archives.items()
     }

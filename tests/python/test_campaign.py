@@ -121,6 +121,7 @@ def test_the_campaign_script_runs_on_a_scheduler_given_by_address(barge, tmp_pat
     separate processes by the `dask` command line, as on a real cluster (the workers get the
     campaign module by upload, the archive by scatter): every case runs, and the rows equal a
     serial run in this process bit for bit."""
+    import os
     import socket
     import subprocess
 
@@ -135,10 +136,13 @@ def test_the_campaign_script_runs_on_a_scheduler_given_by_address(barge, tmp_pat
     dask = pathlib.Path(sys.executable).parent / "dask"
     work = tmp_path / "workers"  # the workers' own folder: nothing shared with this process
     work.mkdir()
+    # Dask's scratch space in that folder too, not the machine's shared /tmp/dask-scratch-space.
+    env = {**os.environ, "DASK_TEMPORARY_DIRECTORY": str(work)}
     scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", str(port),
-                                  "--no-dashboard"], cwd=work, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                  "--no-dashboard"], cwd=work, env=env, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL)
     workers = subprocess.Popen([str(dask), "worker", address, "--nworkers", "2", "--nthreads", "1",
-                                "--no-dashboard", "--local-directory", str(work)], cwd=work,
+                                "--no-dashboard", "--local-directory", str(work)], cwd=work, env=env,
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         from distributed import Client
