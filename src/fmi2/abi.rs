@@ -485,19 +485,36 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     nCategories: usize,
     categories: *const fmi2String,
 ) -> fmi2Status {
+    let on = loggingOn != 0;
+    // SAFETY: the master passes a component from fmi2Instantiate and nCategories strings.
+    unsafe { set_debug_logging(INSTANCE_MAGIC, c, on, nCategories, categories) }
+}
+
+/// fmi2SetDebugLogging and fmi3SetDebugLogging for a component of the standard `magic` names.
+///
+/// # Safety
+/// As [`with_instance`]; unless NULL, `categories` holds `n` strings (each NULL or
+/// NUL-terminated).
+unsafe fn set_debug_logging(
+    magic: u64,
+    c: fmi2Component,
+    on: bool,
+    n: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
     let body = |inst: &mut Instance| {
-        // SAFETY: the master passes nCategories strings.
-        let list = unsafe { slice(categories, nCategories, "categories[]") }?;
+        // SAFETY: the caller's contract.
+        let list = unsafe { slice(categories, n, "categories[]") }?;
         let names = list
             .iter()
             // SAFETY: each a NUL-terminated string (or NULL, refused).
             .map(|&p| unsafe { text(p) })
             .collect::<Option<Vec<&str>>>()
             .ok_or("a category is NULL or not UTF-8")?;
-        Ok(inst.set_debug_logging(loggingOn != 0, &names))
+        Ok(inst.set_debug_logging(on, &names))
     };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::SetDebugLogging, body) }
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::SetDebugLogging, body) }
 }
 
 /// Sets the start time and, if defined, the stop time (no step may end past it).
@@ -723,24 +740,15 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the master passes an fmi2FMUstate* holding NULL or a state of this FMU.
-        unsafe { with_state_slot(FMUstate, |slot| inst.get_fmu_state(slot)) }
-    };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::GetFmuState, body) }
+    // SAFETY: the master passes a component and an fmi2FMUstate* holding NULL or a state.
+    unsafe { get_state(INSTANCE_MAGIC, c, FMUstate) }
 }
 
 /// Restores a saved state, including its phase (this also leaves the error phase).
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-        let saved = unsafe { snapshot(FMUstate) }?;
-        Ok(inst.set_fmu_state(saved))
-    };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::SetFmuState, body) }
+    // SAFETY: the master passes a component and a state of this FMU.
+    unsafe { set_state(INSTANCE_MAGIC, c, FMUstate) }
 }
 
 /// Frees a saved state and sets `*FMUstate` to NULL (NULL `*FMUstate` is a no-op).
@@ -749,10 +757,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    // SAFETY: the master passes an fmi2FMUstate* holding NULL or a state of this FMU.
-    let body = |inst: &mut Instance| unsafe { free_state(inst, FMUstate) };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::FreeFmuState, body) }
+    // SAFETY: the master passes a component and an fmi2FMUstate* holding NULL or a state.
+    unsafe { release_state(INSTANCE_MAGIC, c, FMUstate) }
 }
 
 /// Size of the serialized state.
@@ -762,15 +768,8 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     FMUstate: fmi2FMUstate,
     size: *mut usize,
 ) -> fmi2Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-        let saved = unsafe { snapshot(FMUstate) }?;
-        // SAFETY: the master passes room for the size.
-        let size = unsafe { out(size, "size") }?;
-        Ok(inst.serialized_fmu_state_size(saved, size))
-    };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::SerializedFmuStateSize, body) }
+    // SAFETY: the master passes a component, a state of this FMU and room for the size.
+    unsafe { serialized_size(INSTANCE_MAGIC, c, FMUstate, size) }
 }
 
 /// Writes the serialized state (`size` must be exactly the serialized size).
@@ -781,16 +780,9 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     serializedState: *mut fmi2Byte,
     size: usize,
 ) -> fmi2Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-        let saved = unsafe { snapshot(FMUstate) }?;
-        let buffer = serializedState.cast::<u8>();
-        // SAFETY: the master passes room for `size` bytes.
-        let bytes = unsafe { slice_mut(buffer, size, "serializedState") }?;
-        Ok(inst.serialize_fmu_state(saved, bytes))
-    };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::SerializeFmuState, body) }
+    let bytes = serializedState.cast::<u8>();
+    // SAFETY: the master passes a component, a state of this FMU and room for `size` bytes.
+    unsafe { serialize(INSTANCE_MAGIC, c, FMUstate, bytes, size) }
 }
 
 /// Reads a serialized state into a new (or the given) snapshot; corrupt or foreign bytes
@@ -802,15 +794,116 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: usize,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
+    let bytes = serializedState.cast::<u8>();
+    // SAFETY: the master passes a component, `size` bytes and an fmi2FMUstate* holding NULL
+    // or a state of this FMU.
+    unsafe { deserialize(INSTANCE_MAGIC, c, bytes, size, FMUstate) }
+}
+
+// The bodies of the FMU state functions of both standards, for a component of the standard
+// `magic` names. Safety, for each: as [`with_instance`], and the pointers as the standard's
+// function of the same name receives them.
+
+/// fmi2GetFMUstate, fmi3GetFMUState.
+///
+/// # Safety
+/// See above.
+unsafe fn get_state(magic: u64, c: fmi2Component, target: *mut fmi2FMUstate) -> fmi2Status {
     let body = |inst: &mut Instance| {
-        let buffer = serializedState.cast::<u8>();
-        // SAFETY: the master passes `size` bytes.
-        let bytes = unsafe { slice(buffer, size, "serializedState") }?;
-        // SAFETY: the master passes an fmi2FMUstate* holding NULL or a state of this FMU.
-        unsafe { with_state_slot(FMUstate, |slot| inst.deserialize_fmu_state(bytes, slot)) }
+        // SAFETY: the caller's contract.
+        unsafe { with_state_slot(target, |slot| inst.get_fmu_state(slot)) }
     };
-    // SAFETY: the master passes a component from fmi2Instantiate.
-    unsafe { call(c, Function::DeSerializeFmuState, body) }
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::GetFmuState, body) }
+}
+
+/// fmi2SetFMUstate, fmi3SetFMUState.
+///
+/// # Safety
+/// See above.
+unsafe fn set_state(magic: u64, c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let saved = unsafe { snapshot(state) }?;
+        Ok(inst.set_fmu_state(saved))
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::SetFmuState, body) }
+}
+
+/// fmi2FreeFMUstate, fmi3FreeFMUState.
+///
+/// # Safety
+/// See above.
+unsafe fn release_state(magic: u64, c: fmi2Component, target: *mut fmi2FMUstate) -> fmi2Status {
+    // SAFETY: the caller's contract.
+    let body = |inst: &mut Instance| unsafe { free_state(inst, target) };
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::FreeFmuState, body) }
+}
+
+/// fmi2SerializedFMUstateSize, fmi3SerializedFMUStateSize.
+///
+/// # Safety
+/// See above.
+unsafe fn serialized_size(
+    magic: u64,
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let saved = unsafe { snapshot(state) }?;
+        // SAFETY: the caller's contract.
+        let size = unsafe { out(size, "size") }?;
+        Ok(inst.serialized_fmu_state_size(saved, size))
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::SerializedFmuStateSize, body) }
+}
+
+/// fmi2SerializeFMUstate, fmi3SerializeFMUState.
+///
+/// # Safety
+/// See above.
+unsafe fn serialize(
+    magic: u64,
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    buffer: *mut u8,
+    size: usize,
+) -> fmi2Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let saved = unsafe { snapshot(state) }?;
+        // SAFETY: the caller's contract.
+        let bytes = unsafe { slice_mut(buffer, size, "serializedState") }?;
+        Ok(inst.serialize_fmu_state(saved, bytes))
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::SerializeFmuState, body) }
+}
+
+/// fmi2DeSerializeFMUstate, fmi3DeserializeFMUState.
+///
+/// # Safety
+/// See above.
+unsafe fn deserialize(
+    magic: u64,
+    c: fmi2Component,
+    buffer: *const u8,
+    size: usize,
+    target: *mut fmi2FMUstate,
+) -> fmi2Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let bytes = unsafe { slice(buffer, size, "serializedState") }?;
+        // SAFETY: the caller's contract.
+        unsafe { with_state_slot(target, |slot| inst.deserialize_fmu_state(bytes, slot)) }
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call_of(magic, c, Function::DeSerializeFmuState, body) }
 }
 
 /// Directional derivatives of outputs with respect to inputs.

@@ -56,6 +56,21 @@ pub struct DescriptionInfo {
     pub added_mass_inf: Option<DMatrix<f64>>,
 }
 
+impl DescriptionInfo {
+    /// A valid `modelIdentifier` and a GUID.
+    pub(super) fn check(&self) -> Result<(), VariablesError> {
+        if !valid_name(&self.model_identifier) {
+            return Err(VariablesError::InvalidModelIdentifier(
+                self.model_identifier.clone(),
+            ));
+        }
+        if self.guid.is_empty() {
+            return Err(VariablesError::EmptyGuid);
+        }
+        Ok(())
+    }
+}
+
 impl Layout {
     /// The complete modelDescription.xml: the fixed text with `guid`, `modelIdentifier`,
     /// the per-hull variables and the `<ModelStructure>` added.
@@ -64,14 +79,7 @@ impl Layout {
         fixed_xml: &str,
         info: &DescriptionInfo,
     ) -> Result<String, VariablesError> {
-        if !valid_name(&info.model_identifier) {
-            return Err(VariablesError::InvalidModelIdentifier(
-                info.model_identifier.clone(),
-            ));
-        }
-        if info.guid.is_empty() {
-            return Err(VariablesError::EmptyGuid);
-        }
+        info.check()?;
         let fixed_count = PARAMETERS.len();
         let err = |e: &dyn fmt::Display| VariablesError::Xml(e.to_string());
         let mut reader = Reader::from_str(fixed_xml);

@@ -10,7 +10,7 @@
 //! reference, unit and causality, so a master sees the same ports in both standards.
 
 use crate::fmu::description::{DescriptionInfo, PARAMETERS};
-use crate::fmu::variables::{valid_name, Causality, Layout, Quantity, VariablesError};
+use crate::fmu::variables::{Causality, Layout, Quantity, VariablesError};
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
 use quick_xml::{Reader, Writer};
 use std::fmt;
@@ -141,14 +141,7 @@ impl Layout {
         fixed_xml: &str,
         info: &DescriptionInfo,
     ) -> Result<String, VariablesError> {
-        if !valid_name(&info.model_identifier) {
-            return Err(VariablesError::InvalidModelIdentifier(
-                info.model_identifier.clone(),
-            ));
-        }
-        if info.guid.is_empty() {
-            return Err(VariablesError::EmptyGuid);
-        }
+        info.check()?;
         let err = |e: &dyn fmt::Display| VariablesError::Xml(e.to_string());
         let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
         w.write_event(Event::Decl(quick_xml::events::BytesDecl::new(

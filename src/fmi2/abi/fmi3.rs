@@ -149,19 +149,9 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     nCategories: usize,
     categories: *const fmi3String,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes nCategories strings.
-        let list = unsafe { slice(categories, nCategories, "categories[]") }?;
-        let names = list
-            .iter()
-            // SAFETY: each a NUL-terminated string (or NULL, refused).
-            .map(|&p| unsafe { text(p) })
-            .collect::<Option<Vec<&str>>>()
-            .ok_or("a category is NULL or not UTF-8")?;
-        Ok(inst.set_debug_logging(loggingOn != 0, &names))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SetDebugLogging, body) }
+    let on = loggingOn != 0;
+    // SAFETY: the importer passes an instance and nCategories strings.
+    unsafe { set_debug_logging(INSTANCE_MAGIC_FMI3, instance, on, nCategories, categories) }
 }
 
 /// Logs why an instantiation is refused, to the importer's logger if it gave one.
@@ -596,12 +586,8 @@ pub unsafe extern "C" fn fmi3GetFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes an fmi3FMUState* holding NULL or a state of this FMU.
-        unsafe { with_state_slot(FMUState, |slot| inst.get_fmu_state(slot)) }
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::GetFmuState, body) }
+    // SAFETY: the importer passes an instance and an fmi3FMUState* holding NULL or a state.
+    unsafe { get_state(INSTANCE_MAGIC_FMI3, instance, FMUState) }
 }
 
 /// Restores a saved state, including its phase (this also leaves the error state).
@@ -610,13 +596,8 @@ pub unsafe extern "C" fn fmi3SetFMUState(
     instance: fmi3Instance,
     FMUState: fmi3FMUState,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes a state from fmi3GetFMUState or fmi3DeserializeFMUState.
-        let saved = unsafe { snapshot(FMUState) }?;
-        Ok(inst.set_fmu_state(saved))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SetFmuState, body) }
+    // SAFETY: the importer passes an instance and a state of this FMU.
+    unsafe { set_state(INSTANCE_MAGIC_FMI3, instance, FMUState) }
 }
 
 /// Frees a saved state and sets `*FMUState` to NULL (NULL `*FMUState` is a no-op).
@@ -625,12 +606,8 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: as fmi2FreeFMUstate: the importer passes an fmi3FMUState*.
-        unsafe { free_state(inst, FMUState) }
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::FreeFmuState, body) }
+    // SAFETY: the importer passes an instance and an fmi3FMUState* holding NULL or a state.
+    unsafe { release_state(INSTANCE_MAGIC_FMI3, instance, FMUState) }
 }
 
 /// Size of the serialized state.
@@ -640,15 +617,8 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     FMUState: fmi3FMUState,
     size: *mut usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes a state from fmi3GetFMUState or fmi3DeserializeFMUState.
-        let saved = unsafe { snapshot(FMUState) }?;
-        // SAFETY: the importer passes room for the size.
-        let size = unsafe { out(size, "size") }?;
-        Ok(inst.serialized_fmu_state_size(saved, size))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SerializedFmuStateSize, body) }
+    // SAFETY: the importer passes an instance, a state of this FMU and room for the size.
+    unsafe { serialized_size(INSTANCE_MAGIC_FMI3, instance, FMUState, size) }
 }
 
 /// Writes the serialized state (`size` must be exactly the serialized size).
@@ -659,15 +629,16 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
     serializedState: *mut fmi3Byte,
     size: usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes a state from fmi3GetFMUState or fmi3DeserializeFMUState.
-        let saved = unsafe { snapshot(FMUState) }?;
-        // SAFETY: the importer passes room for `size` bytes.
-        let bytes = unsafe { slice_mut(serializedState, size, "serializedState") }?;
-        Ok(inst.serialize_fmu_state(saved, bytes))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SerializeFmuState, body) }
+    // SAFETY: the importer passes an instance, a state of this FMU and room for `size` bytes.
+    unsafe {
+        serialize(
+            INSTANCE_MAGIC_FMI3,
+            instance,
+            FMUState,
+            serializedState,
+            size,
+        )
+    }
 }
 
 /// Reads a serialized state into a new (or the given) snapshot; corrupt or foreign bytes
@@ -679,14 +650,17 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     size: usize,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes `size` bytes.
-        let bytes = unsafe { slice(serializedState, size, "serializedState") }?;
-        // SAFETY: the importer passes an fmi3FMUState* holding NULL or a state of this FMU.
-        unsafe { with_state_slot(FMUState, |slot| inst.deserialize_fmu_state(bytes, slot)) }
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::DeSerializeFmuState, body) }
+    // SAFETY: the importer passes an instance, `size` bytes and an fmi3FMUState* holding
+    // NULL or a state of this FMU.
+    unsafe {
+        deserialize(
+            INSTANCE_MAGIC_FMI3,
+            instance,
+            serializedState,
+            size,
+            FMUState,
+        )
+    }
 }
 
 // ---------------------------------------------------------------------------------------
