@@ -226,6 +226,10 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     }
     let (hull, mut params) = args.sweep.resolve()?;
     let exports = args.wamit.is_some() || args.netcdf.is_some();
+    if exports {
+        hydrofmu::database::section::wamit_names(&hull)
+            .map_err(|e| format!("{}: cannot export the section: {e}", hull.name()))?;
+    }
     // The diffraction problems only when a table asks for them.
     params.excitation = args.excitation.is_some() || args.froude_krylov.is_some() || exports;
     let scene = Scene {

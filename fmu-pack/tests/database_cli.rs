@@ -283,5 +283,24 @@ fn unwritable_export_paths_are_named() {
             "{flag}: {err}"
         );
     }
+    // An elastic DOF with a WAMIT rigid mode's name: refused before the sweep, by name.
+    let hull = dir.join("box.xml");
+    std::fs::write(
+        &hull,
+        r#"<hull name="box" half_beam="1" units="m">
+  <contour closed="false">
+    <point x="-1" y="0"/><point x="-1" y="-1"/><point x="1" y="-1"/><point x="1" y="0"/>
+  </contour>
+  <mode name="pitch"><u x="0" y="0"/><u x="0" y="1"/><u x="0" y="1"/><u x="0" y="0"/></mode>
+</hull>"#,
+    )
+    .unwrap();
+    let csv = dir.join("box.csv");
+    let (ok, _, err) = fmu_pack(&["sweep", text(&hull), "-o", text(&csv), "--wamit", "x"]);
+    assert!(
+        !ok && err.contains("box: cannot export the section: DOF 'pitch'"),
+        "{err}"
+    );
+    assert!(!csv.exists(), "no table written");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -35,6 +35,63 @@ pub struct SectionDatabase {
     pub roll_centre: Option<[f64; 2]>,
 }
 
+/// The exported names of a section's DOFs, what renaming them noted, and the roll centre.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WamitNames {
+    /// The DOF names in the hull's order: `sway`, `heave`, `roll` for the rigid motions.
+    pub names: Vec<String>,
+    /// A line for each rigid DOF the hull names otherwise.
+    pub notes: Vec<String>,
+    /// The roll DOF's reference point (our x, y), m.
+    pub roll_centre: Option<[f64; 2]>,
+}
+
+/// The exported names of `hull`'s DOFs (checked before a sweep).
+///
+/// # Errors
+/// Two DOFs that would be one WAMIT rigid mode, or an elastic DOF named after a rigid mode
+/// (`surge` .. `yaw`).
+pub fn wamit_names(hull: &Hull) -> Result<WamitNames, String> {
+    let mut names = Vec::with_capacity(hull.dof_count());
+    let mut notes = Vec::new();
+    let mut roll_centre = None;
+    for (j, own) in hull.dof_names().iter().enumerate() {
+        let name = match hull.dof_kind(j) {
+            Some(DofKind::Rigid { kind, reference }) => {
+                if kind == RigidKind::Roll {
+                    roll_centre = Some(reference);
+                }
+                // WAMIT's names of modes 2, 3, 4 are ours.
+                let name = kind.as_str();
+                if name != *own {
+                    notes.push(format!(
+                        "DOF '{own}' (rigid {name}) is exported as '{name}'"
+                    ));
+                }
+                name.to_string()
+            }
+            _ if super::wamit::RIGID_MODES.contains(own) => {
+                return Err(format!(
+                    "DOF '{own}' is not a rigid motion but has the name of a WAMIT rigid \
+                     mode; rename it in the hull file to export the section"
+                ))
+            }
+            _ => own.to_string(),
+        };
+        if names.contains(&name) {
+            return Err(format!(
+                "two DOFs of the section are both WAMIT's '{name}'; keep one with --dofs"
+            ));
+        }
+        names.push(name);
+    }
+    Ok(WamitNames {
+        names,
+        notes,
+        roll_centre,
+    })
+}
+
 impl SectionDatabase {
     /// The section sweep `sweep` of `hull` in SI for `rho` and `g` (the added mass as
     /// [`FrequencyResponse::from_sweep`] scales it, made symmetric), the restoring of
@@ -58,40 +115,12 @@ impl SectionDatabase {
                 hull.dof_names().join(" ")
             ));
         }
-        let n = hull.dof_count();
-        let mut names = Vec::with_capacity(n);
-        let mut notes = Vec::new();
-        let mut roll_centre = None;
-        for (j, own) in hull.dof_names().iter().enumerate() {
-            let name = match hull.dof_kind(j) {
-                Some(DofKind::Rigid { kind, reference }) => {
-                    if kind == RigidKind::Roll {
-                        roll_centre = Some(reference);
-                    }
-                    // WAMIT's names of modes 2, 3, 4 are ours.
-                    let name = kind.as_str();
-                    if name != *own {
-                        notes.push(format!(
-                            "DOF '{own}' (rigid {name}) is exported as '{name}'"
-                        ));
-                    }
-                    name.to_string()
-                }
-                _ if super::wamit::RIGID_MODES.contains(own) => {
-                    return Err(format!(
-                        "DOF '{own}' is not a rigid motion but has the name of a WAMIT rigid \
-                         mode; rename it in the hull file to export the section"
-                    ))
-                }
-                _ => own.to_string(),
-            };
-            if names.contains(&name) {
-                return Err(format!(
-                    "two DOFs of the section are both WAMIT's '{name}'; keep one with --dofs"
-                ));
-            }
-            names.push(name);
-        }
+        let WamitNames {
+            names,
+            notes,
+            roll_centre,
+        } = wamit_names(hull)?;
+        let n = names.len();
         let response = FrequencyResponse::from_sweep(sweep, rho, g);
         let radius = sweep.reference_half_beam;
         let force_scale: Vec<f64> = sweep
@@ -211,3 +240,45 @@ const PER_UNIT_LENGTH: &str = "every value per unit length of the 2D section (a 
 
 /// The database's source.
 const SOURCE: &str = "2D section, panel method, per unit length (a 1 m slice)";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hull(dofs: &str) -> Hull {
+        let text = format!(
+            r#"<hull name="box" half_beam="1" units="m">
+  <contour closed="false">
+    <point x="-1" y="0"/><point x="-1" y="-1"/><point x="1" y="-1"/><point x="1" y="0"/>
+  </contour>
+  {dofs}
+</hull>"#
+        );
+        Hull::from_xml_str(&text, "box.xml").unwrap()
+    }
+
+    const MODE: &str = r#"<u x="0" y="0"/><u x="0" y="1"/><u x="0" y="1"/><u x="0" y="0"/>"#;
+
+    #[test]
+    fn rigid_dofs_take_wamit_names_and_clashes_are_refused() {
+        let named = wamit_names(&hull(
+            r#"<rigid name="drift" kind="sway"/><rigid name="r" kind="roll" x="0" y="-0.5"/>"#,
+        ))
+        .unwrap();
+        assert_eq!(named.names, ["sway", "roll"]);
+        assert_eq!(named.roll_centre, Some([0.0, -0.5]));
+        assert_eq!(
+            named.notes,
+            [
+                "DOF 'drift' (rigid sway) is exported as 'sway'",
+                "DOF 'r' (rigid roll) is exported as 'roll'"
+            ]
+        );
+        let elastic = format!(r#"<mode name="pitch">{MODE}</mode>"#);
+        let e = wamit_names(&hull(&elastic)).unwrap_err();
+        assert!(e.contains("DOF 'pitch' is not a rigid motion"), "{e}");
+        let twice = r#"<rigid name="a" kind="heave"/><rigid name="b" kind="heave"/>"#;
+        let e = wamit_names(&hull(twice)).unwrap_err();
+        assert!(e.contains("both WAMIT's 'heave'"), "{e}");
+    }
+}
