@@ -5,6 +5,7 @@ use crate::output;
 use crate::pack::{locate_binary, pack_network, PackArgs, PackError, PackSummary, PackedNetwork};
 use crate::pipeline::{self, HullInfo};
 use crate::sweep_cmd::SweepArgs;
+use hydrofmu::database::wamit::WamitFiles;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::Extent;
 use hydrofmu::identify::{self, FitParams, FitReport};
@@ -41,23 +42,27 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
         output::file(path, &text)?;
     }
     if let Some(prefix) = &args.wamit {
-        let files = hydrofmu::database::wamit::write(database);
-        let path = |ext: &str| {
-            let mut name = prefix.as_os_str().to_owned();
-            name.push(format!(".{ext}"));
-            std::path::PathBuf::from(name)
-        };
-        output::file(&path("1"), files.radiation.as_bytes())?;
-        if let Some(text) = &files.excitation {
-            output::file(&path("3"), text.as_bytes())?;
-        }
-        output::file(&path("hst"), files.hydrostatics.as_bytes())?;
+        write_wamit(prefix, &hydrofmu::database::wamit::write(database))?;
     }
     if let Some(path) = &args.netcdf {
         hydrofmu::database::capytaine::write(database, path)?;
     }
     print_findings(database);
     Ok(())
+}
+
+/// Writes `PREFIX.1`, `PREFIX.3` (when there is an exciting force) and `PREFIX.hst`.
+pub fn write_wamit(prefix: &std::path::Path, files: &WamitFiles) -> Result<(), String> {
+    let path = |ext: &str| {
+        let mut name = prefix.as_os_str().to_owned();
+        name.push(format!(".{ext}"));
+        std::path::PathBuf::from(name)
+    };
+    output::file(&path("1"), files.radiation.as_bytes())?;
+    if let Some(text) = &files.excitation {
+        output::file(&path("3"), text.as_bytes())?;
+    }
+    output::file(&path("hst"), files.hydrostatics.as_bytes())
 }
 
 /// Warnings, notes and left-out frequencies, one line each on standard error.

@@ -6,6 +6,7 @@ use crate::pipeline;
 use crate::progress::Progress;
 use clap::Args;
 use hydrofmu::bem::IrregularFrequencies;
+use hydrofmu::database::section::SectionDatabase;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::scene::Scene;
@@ -150,13 +151,13 @@ pub struct SweepArgs {
     /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]
     pub hydrostatics: Option<PathBuf>,
-    /// A ship file or an imported database: also write the tables as WAMIT files PREFIX.1,
-    /// PREFIX.3 (with an exciting force) and PREFIX.hst, ULEN = 1 m (docs/DATABASES.md,
-    /// "Export").
+    /// Also write the tables as WAMIT files PREFIX.1, PREFIX.3 (with an exciting force) and
+    /// PREFIX.hst, ULEN = 1 m; a section's per unit length, as a 1 m slice in beam seas
+    /// (docs/DATABASES.md, "Export").
     #[arg(long, value_name = "PREFIX")]
     pub wamit: Option<PathBuf>,
-    /// A ship file or an imported database: also write the tables as a Capytaine dataset in
-    /// NetCDF-3 (docs/DATABASES.md, "Export").
+    /// Also write the tables as a Capytaine dataset in NetCDF-3; a section's per unit length
+    /// (docs/DATABASES.md, "Export").
     #[arg(long, value_name = "FILE.nc")]
     pub netcdf: Option<PathBuf>,
 }
@@ -223,21 +224,14 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     if crate::database_cmd::is_database_file(&args.sweep.hull) {
         return crate::database_cmd::run(args);
     }
-    if let Some(flag) = [
-        ("--wamit", args.wamit.is_some()),
-        ("--netcdf", args.netcdf.is_some()),
-    ]
-    .iter()
-    .find_map(|(flag, given)| given.then_some(flag))
-    {
-        return Err(format!(
-            "{flag} applies to ship files and imported databases (whole bodies), not to a \
-             section"
-        ));
-    }
     let (hull, mut params) = args.sweep.resolve()?;
+    let exports = args.wamit.is_some() || args.netcdf.is_some();
+    if exports {
+        hydrofmu::database::section::wamit_names(&hull)
+            .map_err(|e| format!("{}: cannot export the section: {e}", hull.name()))?;
+    }
     // The diffraction problems only when a table asks for them.
-    params.excitation = args.excitation.is_some() || args.froude_krylov.is_some();
+    params.excitation = args.excitation.is_some() || args.froude_krylov.is_some() || exports;
     let scene = Scene {
         sweep: params,
         ..Scene::new(hull.clone())
@@ -267,6 +261,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
                 .map_err(|e| format!("cannot format the excitation table: {e}"))?;
             output::file(path, &text)?;
         }
+    }
+    if exports {
+        write_section_exports(&hull, &result, args)?;
     }
     for warning in &result.warnings {
         output::stderr_line(&format!("warning: {warning}"));
@@ -311,6 +308,28 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
             "exciting force: direct diffraction solve; the Haskind relation agrees to {difference:.1e} \
              of the largest |X_j| (max over kR and DOFs)"
         ));
+    }
+    Ok(())
+}
+
+/// `--wamit` and `--netcdf` of a section: its 1 m slice per unit length at the reference
+/// rho and g (docs/DATABASES.md, "Export").
+fn write_section_exports(
+    hull: &Hull,
+    result: &sweep::SweepResult,
+    args: &SweepArgs,
+) -> Result<(), String> {
+    use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
+    let section = SectionDatabase::from_sweep(hull, result, DEFAULT_RHO, DEFAULT_G)
+        .map_err(|e| format!("{}: cannot export the section: {e}", hull.name()))?;
+    if let Some(prefix) = &args.wamit {
+        crate::body::write_wamit(prefix, &section.wamit())?;
+    }
+    if let Some(path) = &args.netcdf {
+        section.write_netcdf(path)?;
+    }
+    for note in &section.database.notes {
+        output::stderr_line(&format!("note: {note}"));
     }
     Ok(())
 }

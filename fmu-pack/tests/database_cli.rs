@@ -1,7 +1,8 @@
 //! `fmu-pack sweep|fit|pack NAME.1`: imported WAMIT databases on the command line (the
-//! checked-in WAMIT v7.2 hemisphere, tests/data/wamit/), and clear errors.
+//! checked-in WAMIT v7.2 hemisphere, tests/data/wamit/), and clear errors; a section's
+//! `--wamit` and `--netcdf` exports per unit length, read back.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn fmu_pack(args: &[&str]) -> (bool, String, String) {
@@ -161,10 +162,145 @@ fn wamit_export_of_a_database_reads_back_to_the_same_table() {
             );
         }
     }
-    // A section has no whole-body tables to write.
-    let (ok, _, err) = fmu_pack(&["sweep", "semicircle", "--wamit", "x", "-o", "-"]);
+}
+
+/// A folder of its own per test (the tests run in parallel threads).
+fn folder(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "hydrofmu-database-cli-section-{tag}-{}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The `omega = inf` row `i,j` of a table: its value.
+fn inf_entry(table: &str, i: usize, j: usize) -> f64 {
+    let prefix = format!("inf,{i},{j},");
+    let row = table
+        .lines()
+        .find(|l| l.starts_with(&prefix))
+        .unwrap_or_else(|| panic!("no {prefix} in\n{table}"));
+    row.split(',').nth(3).unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_section_exports_per_unit_length_and_reads_back() {
+    let dir = folder("semicircle");
+    let (prefix, nc, csv) = (dir.join("semi"), dir.join("semi.nc"), dir.join("t.csv"));
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        "semicircle",
+        "--kr",
+        "0.1:4:6",
+        "-o",
+        text(&csv),
+        "--wamit",
+        text(&prefix),
+        "--netcdf",
+        text(&nc),
+    ]);
+    assert!(ok, "{err}");
+    assert!(!err.contains("applies to"), "{err}");
+    for ext in ["1", "3", "hst"] {
+        let file = dir.join(format!("semi.{ext}"));
+        let first = std::fs::read_to_string(&file).unwrap();
+        assert!(first.lines().next().unwrap().contains("per unit length"));
+    }
+    // The section's table: heave A_inf / (rho pi R^2) (R = 1 m); the read-back's in SI.
+    let section = std::fs::read_to_string(&csv).unwrap();
+    let heave = section
+        .lines()
+        .find(|l| l.starts_with("inf,2,2,"))
+        .and_then(|l| l.split(',').nth(3))
+        .unwrap()
+        .parse::<f64>()
+        .unwrap();
+    assert!((heave - 0.5).abs() < 1e-3, "{heave}");
+    for file in [dir.join("semi.1"), nc.clone()] {
+        let (ok, table, err) = fmu_pack(&["sweep", text(&file), "-o", "-"]);
+        assert!(ok, "{}: {err}", file.display());
+        assert!(table.contains("# modes: sway heave roll cb1"), "{table}");
+        let si = inf_entry(&table, 2, 2);
+        let expected = heave * 1025.0 * std::f64::consts::PI;
+        // The section table's 6 digits.
+        assert!(
+            (si - expected).abs() < 1e-5 * expected,
+            "{si} vs {expected}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_hull_file_exports_too() {
+    let dir = folder("pontoon");
+    let hull = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/hulls/pontoon.xml");
+    let prefix = dir.join("pontoon");
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        text(&hull),
+        "--kr",
+        "0.1:2:4",
+        "-o",
+        text(&dir.join("t.csv")),
+        "--wamit",
+        text(&prefix),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, table, err) = fmu_pack(&["sweep", text(&dir.join("pontoon.1")), "-o", "-"]);
+    assert!(ok, "{err}");
+    assert!(table.contains("# modes: sway heave roll"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn unwritable_export_paths_are_named() {
+    let dir = folder("unwritable");
+    let missing = dir.join("no-such-folder");
+    for (flag, path, shown) in [
+        ("--wamit", missing.join("x"), missing.join("x.1")),
+        ("--netcdf", missing.join("x.nc"), missing.join("x.nc")),
+    ] {
+        let (ok, _, err) = fmu_pack(&[
+            "sweep",
+            "semicircle",
+            "--kr",
+            "1:1:1",
+            "-o",
+            text(&dir.join("t.csv")),
+            flag,
+            text(&path),
+        ]);
+        assert!(!ok, "{flag}");
+        assert!(
+            err.contains(&format!("cannot write {}", shown.display())),
+            "{flag}: {err}"
+        );
+    }
+    // An elastic DOF with a WAMIT rigid mode's name: refused before the sweep, by name.
+    let hull = dir.join("box.xml");
+    std::fs::write(
+        &hull,
+        r#"<hull name="box" half_beam="1" units="m">
+  <contour closed="false">
+    <point x="-1" y="0"/><point x="-1" y="-1"/><point x="1" y="-1"/><point x="1" y="0"/>
+  </contour>
+  <mode name="pitch"><u x="0" y="0"/><u x="0" y="1"/><u x="0" y="1"/><u x="0" y="0"/></mode>
+</hull>"#,
+    )
+    .unwrap();
+    let csv = dir.join("box.csv");
+    let (ok, _, err) = fmu_pack(&["sweep", text(&hull), "-o", text(&csv), "--wamit", "x"]);
     assert!(
-        !ok && err.contains("--wamit applies to ship files and imported databases"),
+        !ok && err.contains("box: cannot export the section: DOF 'pitch'"),
         "{err}"
     );
+    assert!(!csv.exists(), "no table written");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1095,6 +1095,27 @@ fn capytaine_name(name: &str) -> String {
 /// # Errors
 /// The file cannot be written (the message names it).
 pub fn write(database: &Database, path: &std::path::Path) -> Result<(), String> {
+    write_with(database, path, &[])
+}
+
+/// The value of a global attribute of [`write_with`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Attribute {
+    /// Text.
+    Text(String),
+    /// Numbers (`f64`).
+    Numbers(Vec<f64>),
+}
+
+/// As [`write()`], with more global attributes.
+///
+/// # Errors
+/// The file cannot be written (the message names it).
+pub fn write_with(
+    database: &Database,
+    path: &std::path::Path,
+    attributes: &[(&str, Attribute)],
+) -> Result<(), String> {
     use netcdf3::{DataSet, FileWriter, Version};
     let fail = |e: netcdf3::error::WriteError| match e {
         netcdf3::error::WriteError::IOErrorKind(kind) => format!(
@@ -1142,6 +1163,13 @@ pub fn write(database: &Database, path: &std::path::Path) -> Result<(), String> 
     }
     ds.add_global_attr_string("source", format!("hydrofmu: {}", database.source))
         .map_err(define)?;
+    for (name, value) in attributes {
+        match value {
+            Attribute::Text(text) => ds.add_global_attr_string(name, text),
+            Attribute::Numbers(numbers) => ds.add_global_attr_f64(name, numbers.clone()),
+        }
+        .map_err(define)?;
+    }
     for scalar in ["rho", "g", "forward_speed", "water_depth"] {
         ds.add_var_f64::<&str>(scalar, &[]).map_err(define)?;
     }

@@ -285,7 +285,7 @@ pub fn finish(
 }
 
 /// `A~` and `A_inf` made symmetric (reciprocity), the largest asymmetry noted.
-fn symmetrize(database: &mut Database) {
+pub(super) fn symmetrize(database: &mut Database) {
     let n = database.dof_names.len();
     let mut worst: (f64, usize, usize, f64) = (0.0, 0, 0, 0.0);
     for (a, omega) in database.added_mass.iter_mut().zip(&database.omega) {

@@ -15,6 +15,7 @@ pub mod added_mass_inf;
 pub mod capytaine;
 pub mod import;
 pub mod irregular;
+pub mod section;
 pub mod wamit;
 
 use crate::fmu::DofUnit;
@@ -58,7 +59,7 @@ pub struct Database {
     /// Hydrostatic restoring (N/m, N, N m), buoyancy part (DESIGN.md).
     pub stiffness_hydrostatic: DMatrix<f64>,
     /// Reference length R of the excitation table's `kR` (a ship: the largest section
-    /// half-beam), m.
+    /// half-beam; an import: ULEN; a section's 1 m slice: 1), m.
     pub reference_length: f64,
     /// Frequencies that failed, with the reason.
     pub failures: Vec<(f64, String)>,

@@ -1,0 +1,284 @@
+//! A 2D section's sweep as a whole-body [`Database`] of a 1 m slice: every value per unit
+//! length (N/m per m/s^2, ...), for the WAMIT and Capytaine exports of `fmu-pack sweep`.
+//!
+//! Axes (no sign changes, a right-handed frame): WAMIT's and Capytaine's X runs along the
+//! section's longitudinal axis, towards the viewer of the section drawn with our x to the
+//! right and y up; Y = our x, Z = our y, origin on the free surface at our origin. Rigid
+//! `sway` (+x) is mode 2, `heave` (+y) mode 3, `roll` (counter-clockwise, x towards y) mode 4,
+//! a rotation about +X through the roll DOF's reference point (the body origin of the files'
+//! rotations; the built-ins' is our origin). Every other DOF is a generalized mode 7, 8, ...
+//! in the hull's order, with its own name.
+//!
+//! Waves: our heading `h` (0: towards +x, 180: towards -x) is the 3D direction
+//! `beta = 90 - h` (90 and -90 degrees, beam seas), phase referred to the crest at x = 0.
+
+use super::Database;
+use crate::bem::HEADINGS;
+use crate::hull::{DofKind, Hull, RigidKind};
+use crate::identify::FrequencyResponse;
+use crate::sweep::SweepResult;
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+
+/// The 3D wave direction (degrees) of our section heading `heading`: `90 - heading`.
+pub fn wave_direction(heading: f64) -> f64 {
+    90.0 - heading
+}
+
+/// A section's per-unit-length database, with its frame.
+#[derive(Clone, Debug)]
+pub struct SectionDatabase {
+    /// The coefficients of a 1 m slice, SI; `reference_length` 1 m; rigid DOFs named `sway`,
+    /// `heave`, `roll`; headings `beta` ascending (-90, 90).
+    pub database: Database,
+    /// The roll DOF's reference point (our x, y), m, when the section has one.
+    pub roll_centre: Option<[f64; 2]>,
+}
+
+/// The exported names of a section's DOFs, what renaming them noted, and the roll centre.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WamitNames {
+    /// The DOF names in the hull's order: `sway`, `heave`, `roll` for the rigid motions.
+    pub names: Vec<String>,
+    /// A line for each rigid DOF the hull names otherwise.
+    pub notes: Vec<String>,
+    /// The roll DOF's reference point (our x, y), m.
+    pub roll_centre: Option<[f64; 2]>,
+}
+
+/// The exported names of `hull`'s DOFs (checked before a sweep).
+///
+/// # Errors
+/// Two DOFs that would be one WAMIT rigid mode, or an elastic DOF named after a rigid mode
+/// (`surge` .. `yaw`).
+pub fn wamit_names(hull: &Hull) -> Result<WamitNames, String> {
+    let mut names = Vec::with_capacity(hull.dof_count());
+    let mut notes = Vec::new();
+    let mut roll_centre = None;
+    for (j, own) in hull.dof_names().iter().enumerate() {
+        let name = match hull.dof_kind(j) {
+            Some(DofKind::Rigid { kind, reference }) => {
+                if kind == RigidKind::Roll {
+                    roll_centre = Some(reference);
+                }
+                // WAMIT's names of modes 2, 3, 4 are ours.
+                let name = kind.as_str();
+                if name != *own {
+                    notes.push(format!(
+                        "DOF '{own}' (rigid {name}) is exported as '{name}'"
+                    ));
+                }
+                name.to_string()
+            }
+            _ if super::wamit::RIGID_MODES.contains(own) => {
+                return Err(format!(
+                    "DOF '{own}' is not a rigid motion but has the name of a WAMIT rigid \
+                     mode; rename it in the hull file to export the section"
+                ))
+            }
+            _ => own.to_string(),
+        };
+        if names.contains(&name) {
+            return Err(format!(
+                "two DOFs of the section are both WAMIT's '{name}'; keep one with --dofs"
+            ));
+        }
+        names.push(name);
+    }
+    Ok(WamitNames {
+        names,
+        notes,
+        roll_centre,
+    })
+}
+
+impl SectionDatabase {
+    /// The section sweep `sweep` of `hull` in SI for `rho` and `g` (the added mass as
+    /// [`FrequencyResponse::from_sweep`] scales it, made symmetric), the restoring of
+    /// [`crate::hydrostatics::stiffness`], the exciting force of [`SweepResult::excitation`]
+    /// (direct solve) when computed.
+    ///
+    /// # Errors
+    /// A sweep of other DOFs than the hull's, two DOFs that would be one WAMIT rigid mode,
+    /// an elastic DOF named after a rigid mode (`surge` .. `yaw`), or a restoring that is not
+    /// finite.
+    pub fn from_sweep(
+        hull: &Hull,
+        sweep: &SweepResult,
+        rho: f64,
+        g: f64,
+    ) -> Result<SectionDatabase, String> {
+        if hull.dof_names() != sweep.dof_names {
+            return Err(format!(
+                "the sweep's DOFs ({}) are not the hull's ({})",
+                sweep.dof_names.join(" "),
+                hull.dof_names().join(" ")
+            ));
+        }
+        let WamitNames {
+            names,
+            notes,
+            roll_centre,
+        } = wamit_names(hull)?;
+        let n = names.len();
+        let response = FrequencyResponse::from_sweep(sweep, rho, g);
+        let radius = sweep.reference_half_beam;
+        let force_scale: Vec<f64> = sweep
+            .length_exponents
+            .iter()
+            .map(|&e| rho * g * radius.powi(1 + i32::from(e)))
+            .collect();
+        // Columns in ascending beta.
+        let mut columns: Vec<(f64, usize)> = HEADINGS
+            .iter()
+            .enumerate()
+            .map(|(h, heading)| (wave_direction(*heading), h))
+            .collect();
+        columns.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let si = |x: &DMatrix<Complex64>| {
+            DMatrix::from_fn(n, columns.len(), |j, c| {
+                x[(j, columns[c].1)] * force_scale[j]
+            })
+        };
+        let restoring = crate::hydrostatics::stiffness(hull).map_err(|e| e.to_string())?;
+        let mut units = hull.dof_units();
+        for (unit, name) in units.iter_mut().zip(&names) {
+            unit.name.clone_from(name);
+        }
+        let mut database = Database {
+            name: hull.name().to_string(),
+            source: SOURCE.to_string(),
+            dof_names: names,
+            dof_units: units,
+            rho,
+            g,
+            omega: response.omega,
+            added_mass: response.added_mass,
+            added_mass_inf: response.added_mass_inf,
+            headings: columns.iter().map(|c| c.0).collect(),
+            excitation: sweep.excitation.iter().map(|w| si(&w.direct)).collect(),
+            froude_krylov: sweep
+                .excitation
+                .iter()
+                .map(|w| si(&w.froude_krylov))
+                .collect(),
+            excitation_long_wave: Some(
+                sweep
+                    .excitation_long_wave
+                    .iter()
+                    .zip(&force_scale)
+                    .map(|(x, s)| x * s)
+                    .collect(),
+            ),
+            stiffness_hydrostatic: restoring.stiffness(rho, g),
+            reference_length: 1.0,
+            failures: sweep
+                .failures
+                .iter()
+                .map(|(kr, why)| (crate::units::omega_from_kr(*kr, radius, g), why.clone()))
+                .collect(),
+            warnings: sweep.warnings.clone(),
+            notes,
+            body_panels: vec![sweep.panel_counts.0],
+        };
+        super::import::symmetrize(&mut database);
+        if let Some(what) = database.first_non_finite() {
+            return Err(format!("{what} of the section is not finite in SI"));
+        }
+        Ok(SectionDatabase {
+            database,
+            roll_centre,
+        })
+    }
+
+    /// The frame in words, for the files' headers.
+    pub fn frame(&self) -> String {
+        let centre = self.roll_centre.map_or(String::new(), |[x, y]| {
+            format!("; roll about X through (Y, Z) = ({x}, {y}) m")
+        });
+        format!(
+            "axes: X along the section, Y = section x, Z = section y (up){centre}; beam seas: \
+             beta = 90 - section heading (deg)"
+        )
+    }
+
+    /// The WAMIT files ([`super::wamit::write`]) with the per-unit-length frame in their
+    /// header line.
+    pub fn wamit(&self) -> super::wamit::WamitFiles {
+        let mut database = self.database.clone();
+        database.source = format!("{}; {}", database.source, self.frame());
+        super::wamit::write(&database)
+    }
+
+    /// The Capytaine dataset ([`super::capytaine::write_with`]) with global attributes
+    /// `per_unit_length`, `reference_length` (1, m), `axes`, and `rotation_center` (X, Y, Z,
+    /// m) when the section rolls.
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn write_netcdf(&self, path: &std::path::Path) -> Result<(), String> {
+        use super::capytaine::Attribute;
+        let mut attributes = vec![
+            (
+                "per_unit_length",
+                Attribute::Text(PER_UNIT_LENGTH.to_string()),
+            ),
+            ("reference_length", Attribute::Numbers(vec![1.0])),
+            ("axes", Attribute::Text(self.frame())),
+        ];
+        if let Some([x, y]) = self.roll_centre {
+            attributes.push(("rotation_center", Attribute::Numbers(vec![0.0, x, y])));
+        }
+        super::capytaine::write_with(&self.database, path, &attributes)
+    }
+}
+
+/// What the files say of their values.
+const PER_UNIT_LENGTH: &str = "every value per unit length of the 2D section (a 1 m slice): \
+    added mass kg/m, damping kg/(m s), exciting force N/m per m of wave amplitude, restoring \
+    N/m^2 (rotations and generalized modes: one more m per DOF)";
+
+/// The database's source.
+const SOURCE: &str = "2D section, panel method, per unit length (a 1 m slice)";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hull(dofs: &str) -> Hull {
+        let text = format!(
+            r#"<hull name="box" half_beam="1" units="m">
+  <contour closed="false">
+    <point x="-1" y="0"/><point x="-1" y="-1"/><point x="1" y="-1"/><point x="1" y="0"/>
+  </contour>
+  {dofs}
+</hull>"#
+        );
+        Hull::from_xml_str(&text, "box.xml").unwrap()
+    }
+
+    const MODE: &str = r#"<u x="0" y="0"/><u x="0" y="1"/><u x="0" y="1"/><u x="0" y="0"/>"#;
+
+    #[test]
+    fn rigid_dofs_take_wamit_names_and_clashes_are_refused() {
+        let named = wamit_names(&hull(
+            r#"<rigid name="drift" kind="sway"/><rigid name="r" kind="roll" x="0" y="-0.5"/>"#,
+        ))
+        .unwrap();
+        assert_eq!(named.names, ["sway", "roll"]);
+        assert_eq!(named.roll_centre, Some([0.0, -0.5]));
+        assert_eq!(
+            named.notes,
+            [
+                "DOF 'drift' (rigid sway) is exported as 'sway'",
+                "DOF 'r' (rigid roll) is exported as 'roll'"
+            ]
+        );
+        let elastic = format!(r#"<mode name="pitch">{MODE}</mode>"#);
+        let e = wamit_names(&hull(&elastic)).unwrap_err();
+        assert!(e.contains("DOF 'pitch' is not a rigid motion"), "{e}");
+        let twice = r#"<rigid name="a" kind="heave"/><rigid name="b" kind="heave"/>"#;
+        let e = wamit_names(&hull(twice)).unwrap_err();
+        assert!(e.contains("both WAMIT's 'heave'"), "{e}");
+    }
+}
