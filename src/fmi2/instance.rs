@@ -284,16 +284,21 @@ impl Instance {
         stop_time: Option<f64>,
     ) -> Status {
         self.run(Function::SetupExperiment, |inst| {
-            if let Some(stop) = stop_time {
-                if stop.is_nan() || stop < start_time {
-                    return Err(format!("stopTime {stop} is before startTime {start_time}"));
-                }
-            }
-            inst.model
-                .set_experiment(start_time, stop_time)
-                .map_err(|e| e.to_string())?;
+            inst.set_experiment(start_time, stop_time)?;
             Ok(Status::Ok)
         })
+    }
+
+    /// The start time and the optional stop time of the run (not before the start).
+    fn set_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String> {
+        if let Some(stop) = stop_time {
+            if stop.is_nan() || stop < start_time {
+                return Err(format!("stopTime {stop} is before startTime {start_time}"));
+            }
+        }
+        self.model
+            .set_experiment(start_time, stop_time)
+            .map_err(|e| e.to_string())
     }
 
     /// fmi2EnterInitializationMode.

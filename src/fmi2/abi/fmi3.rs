@@ -302,10 +302,8 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
 ) -> fmi3Status {
     let tolerance = (toleranceDefined != 0).then_some(tolerance);
     let stop = (stopTimeDefined != 0).then_some(stopTime);
-    let body = |inst: &mut Instance| match inst.setup_experiment(tolerance, startTime, stop) {
-        Status::Ok => inst.enter_initialization_mode(),
-        other => other,
-    };
+    let body =
+        |inst: &mut Instance| inst.enter_initialization_mode_fmi3(tolerance, startTime, stop);
     // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
     unsafe { with3(instance, Function::EnterInitializationMode, body) }
 }

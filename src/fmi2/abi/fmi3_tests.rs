@@ -33,6 +33,10 @@ unsafe extern "C" fn logger3(
 }
 
 fn instantiate3(fmu: &Unpacked, token: &CStr, log: &Log3) -> fmi3Instance {
+    instantiate3_logging(fmu, token, log, false)
+}
+
+fn instantiate3_logging(fmu: &Unpacked, token: &CStr, log: &Log3, on: bool) -> fmi3Instance {
     let path = CString::new(format!("{}/", fmu.dir.display())).unwrap();
     // SAFETY: NUL-terminated strings and a logger environment that outlives the instance.
     unsafe {
@@ -41,7 +45,7 @@ fn instantiate3(fmu: &Unpacked, token: &CStr, log: &Log3) -> fmi3Instance {
             token.as_ptr(),
             path.as_ptr(),
             0,
-            0,
+            u8::from(on),
             0,
             0,
             std::ptr::null(),
@@ -417,4 +421,56 @@ unsafe fn reset_and_set_velocity(c: fmi3Instance, v: f64) -> fmi3Status {
         assert_eq!(fmi3Reset(c), fmi3OK);
         fmi3SetFloat64(c, &VELOCITY, 1, &v, 1)
     }
+}
+
+#[test]
+fn initialization_is_one_call_with_its_start_and_stop_time() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let c = instantiate3_logging(&fmu, &fmu.guid, &log3, true);
+    assert!(!c.is_null());
+    let (mut a, mut b, mut e, mut t) = (0u8, 0u8, 0u8, 0.0);
+    // SAFETY: see the module docs.
+    unsafe {
+        // A stop time before the start: refused by name, then recovered by reset.
+        assert_eq!(
+            fmi3EnterInitializationMode(c, 0, 0.0, 1.0, 1, 0.5),
+            fmi3Error
+        );
+        assert_eq!(phase3(c), Phase::Error);
+        assert_eq!(fmi3Reset(c), fmi3OK);
+        let refused = log3.lock().unwrap().drain(..).any(|(_, _, m)| {
+            m == "fmi3EnterInitializationMode: stopTime 0.5 is before startTime 1"
+        });
+        assert!(refused);
+        assert_eq!(fmi3EnterInitializationMode(c, 1, 1e-6, 2.0, 1, 2.3), fmi3OK);
+        assert_eq!(fmi3ExitInitializationMode(c), fmi3OK);
+        assert_eq!(
+            fmi3DoStep(c, 2.0, 0.2, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3OK
+        );
+        assert_eq!(t, 2.2);
+        // Past the stop time given at initialization: refused, time unchanged.
+        assert_eq!(
+            fmi3DoStep(c, 2.2, 0.2, 1, &mut a, &mut b, &mut e, &mut t),
+            fmi3Error
+        );
+        assert_eq!(t, 2.2);
+        fmi3FreeInstance(c);
+    }
+    let log = log3.lock().unwrap();
+    let calls: Vec<&str> = log
+        .iter()
+        .filter(|(_, c, _)| c == "logCalls")
+        .map(|(_, _, m)| m.as_str())
+        .collect();
+    // One line per call, named as in FMI 3.0.
+    assert_eq!(calls[0], "fmi3EnterInitializationMode");
+    assert_eq!(calls[1], "fmi3ExitInitializationMode");
+    assert!(calls[2].starts_with("fmi3DoStep(t = 2"), "{calls:?}");
+    assert_eq!(calls.len(), 4, "{calls:?}");
+    assert!(
+        log.iter().any(|(_, _, m)| m.contains("past the stop time")),
+        "{log:?}"
+    );
 }

@@ -48,6 +48,21 @@ impl Instance {
         Ok(instance)
     }
 
+    /// fmi3EnterInitializationMode: the start and stop time (as fmi2SetupExperiment) and
+    /// initialization mode, in one call. The tolerance is not needed.
+    pub fn enter_initialization_mode_fmi3(
+        &mut self,
+        _tolerance: Option<f64>,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Status {
+        self.run(Function::EnterInitializationMode, |inst| {
+            inst.set_experiment(start_time, stop_time)?;
+            inst.phase = crate::fmi2::Phase::InitializationMode;
+            Ok(Status::Ok)
+        })
+    }
+
     /// The standard this instance was made through.
     pub fn standard(&self) -> Standard {
         self.standard
