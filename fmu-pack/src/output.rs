@@ -28,6 +28,22 @@ pub fn stderr_line(line: &str) {
     let _ = err.flush();
 }
 
+/// Checks, before any work, that the folder `path` goes in exists (`-`, standard output, and a
+/// bare file name always pass): a missing folder is an error naming the file.
+pub fn check_folder(path: &Path) -> Result<(), String> {
+    if path.as_os_str() == "-" {
+        return Ok(());
+    }
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => Err(format!(
+            "cannot write {}: the folder {} does not exist",
+            path.display(),
+            folder.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Writes `text` to `path`; `-` is standard output.
 pub fn file(path: &Path, text: &[u8]) -> Result<(), String> {
     if path.as_os_str() == "-" {

@@ -198,6 +198,8 @@ impl fmt::Display for PackSummary {
 
 /// `fmu-pack pack`.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
+    // The archive's folder, before the sweep and the fit.
+    crate::output::check_folder(&args.output)?;
     if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
         return crate::ship_cmd::pack(args);
     }

@@ -218,6 +218,25 @@ pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
 
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
+    // Every output's folder, before a sweep that may take minutes.
+    let wamit = args.wamit.as_ref().map(|prefix| {
+        let mut name = prefix.as_os_str().to_owned();
+        name.push(".1");
+        PathBuf::from(name)
+    });
+    for path in [
+        Some(&args.output),
+        args.excitation.as_ref(),
+        args.froude_krylov.as_ref(),
+        args.hydrostatics.as_ref(),
+        wamit.as_ref(),
+        args.netcdf.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        output::check_folder(path)?;
+    }
     if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
         return crate::ship_cmd::run(args);
     }

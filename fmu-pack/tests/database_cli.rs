@@ -279,10 +279,24 @@ fn unwritable_export_paths_are_named() {
         ]);
         assert!(!ok, "{flag}");
         assert!(
-            err.contains(&format!("cannot write {}", shown.display())),
+            err.contains(&format!(
+                "cannot write {}: the folder {} does not exist",
+                shown.display(),
+                missing.display()
+            )),
             "{flag}: {err}"
         );
+        // Refused before the sweep: not even the table was written.
+        assert!(!dir.join("t.csv").exists(), "{flag}");
     }
+    // pack: the archive's folder, checked before the sweep and the fit.
+    let archive = missing.join("X.fmu");
+    let (ok, _, err) = fmu_pack(&["pack", "semicircle", "-o", text(&archive)]);
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("cannot write {}: the folder", archive.display())),
+        "{err}"
+    );
     // An elastic DOF with a WAMIT rigid mode's name: refused before the sweep, by name.
     let hull = dir.join("box.xml");
     std::fs::write(
