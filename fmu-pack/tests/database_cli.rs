@@ -3,19 +3,9 @@
 //! `--wamit` and `--netcdf` exports per unit length, read back.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn fmu_pack(args: &[&str]) -> (bool, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_fmu-pack"))
-        .args(args)
-        .output()
-        .expect("run fmu-pack");
-    (
-        output.status.success(),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+mod common;
+use common::fmu_pack;
 
 fn sphere() -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -1,18 +1,7 @@
 //! `fmu-pack sweep` from the command line: the CSV of DESIGN.md and clear errors.
 
-use std::process::Command;
-
-fn fmu_pack(args: &[&str]) -> (bool, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_fmu-pack"))
-        .args(args)
-        .output()
-        .expect("run fmu-pack");
-    (
-        output.status.success(),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+mod common;
+use common::fmu_pack;
 
 #[test]
 fn sweep_writes_the_coefficient_table() {

@@ -193,8 +193,12 @@ impl Instance {
 
     /// One call: phase check, body, error rule, `logCalls` line.
     fn run(&mut self, function: Function, body: impl FnOnce(&mut Self) -> Outcome) -> Status {
-        let name = function.name_in(self.standard);
-        self.run_described(function, || name.to_string(), body)
+        let standard = self.standard;
+        self.run_described(
+            function,
+            move || function.name_in(standard).to_string(),
+            body,
+        )
     }
 
     fn run_described(

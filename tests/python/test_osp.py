@@ -8,8 +8,6 @@ is checked against the frequency-domain prediction with the panel method's A~(w)
 run against the same coupling by scalar connections. A ship FMU (rigid and elastic DOFs)
 connects to one body per DOF by its three kinds of groups.
 """
-import csv
-import io
 import math
 import shutil
 import subprocess
@@ -22,6 +20,7 @@ import pytest
 from fmpy import read_model_description
 
 from conftest import ROOT, _release_binaries
+from test_harmonic import panel_method
 
 EXAMPLE = ROOT / "examples" / "osp"
 RHO, G, RADIUS = 1025.0, 9.81, 1.0
@@ -102,15 +101,7 @@ def initial_values(config):
 def panel_added_mass(kr):
     """A~(kR) of the semicircle in sway from `fmu-pack sweep`, SI (R = 1 m)."""
     fmu_pack, _ = _release_binaries()
-    text = subprocess.run(
-        [str(fmu_pack), "sweep", "semicircle", "--dofs", "sway", "--kr", f"{kr}:{kr}:1", "-o", "-"],
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout
-    rows = [r for r in csv.reader(io.StringIO(text)) if r and not r[0].startswith(("#", "kR"))]
-    scale = RHO * math.pi * RADIUS**2
-    return next(scale * complex(float(r[3]), float(r[4])) for r in rows if r[0] not in ("0", "inf"))
+    return panel_method(fmu_pack, kr)[0]
 
 
 def decay_pole(position, start, stride=25):

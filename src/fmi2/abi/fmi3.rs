@@ -344,6 +344,51 @@ pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
 // Getting and setting values
 // ---------------------------------------------------------------------------------------
 
+/// The body of a typed getter: the value references and room for `n_values` values, then
+/// `answer` (the instance's method for the type).
+///
+/// # Safety
+/// As [`call3`]; `vr` and `values` as the importer passes them (the counts given, or NULL).
+unsafe fn get_typed<T>(
+    instance: fmi3Instance,
+    function: Function,
+    (vr, n_vr): (*const fmi3ValueReference, usize),
+    (values, n_values): (*mut T, usize),
+    answer: fn(&mut Instance, &[u32], &mut [T]) -> Status,
+) -> fmi3Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let vr = unsafe { slice(vr, n_vr, "valueReferences[]") }?;
+        // SAFETY: the caller's contract.
+        let values = unsafe { slice_mut(values, n_values, "values[]") }?;
+        Ok(answer(inst, vr, values))
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call3(instance, function, body) }
+}
+
+/// The body of a typed setter (as [`get_typed`]).
+///
+/// # Safety
+/// As [`get_typed`].
+unsafe fn set_typed<T>(
+    instance: fmi3Instance,
+    function: Function,
+    (vr, n_vr): (*const fmi3ValueReference, usize),
+    (values, n_values): (*const T, usize),
+    answer: fn(&mut Instance, &[u32], &[T]) -> Status,
+) -> fmi3Status {
+    let body = |inst: &mut Instance| {
+        // SAFETY: the caller's contract.
+        let vr = unsafe { slice(vr, n_vr, "valueReferences[]") }?;
+        // SAFETY: the caller's contract.
+        let values = unsafe { slice(values, n_values, "values[]") }?;
+        Ok(answer(inst, vr, values))
+    };
+    // SAFETY: the caller's contract.
+    unsafe { call3(instance, function, body) }
+}
+
 /// Reads Float64 variables: scalars, `time`, the matrices (row-major).
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetFloat64(
@@ -353,15 +398,9 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     values: *mut fmi3Float64,
     nValues: usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes nValueReferences value references.
-        let vr = unsafe { slice(valueReferences, nValueReferences, "valueReferences[]") }?;
-        // SAFETY: the importer passes room for nValues values.
-        let values = unsafe { slice_mut(values, nValues, "values[]") }?;
-        Ok(inst.get_float64(vr, values))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::GetReal, body) }
+    let (vr, out) = ((valueReferences, nValueReferences), (values, nValues));
+    // SAFETY: the importer passes an instance and arrays of the counts given.
+    unsafe { get_typed(instance, Function::GetReal, vr, out, Instance::get_float64) }
 }
 
 /// Sets Float64 variables: rho, g and the wave parameters before initialization ends, the
@@ -374,15 +413,9 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     values: *const fmi3Float64,
     nValues: usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes nValueReferences value references.
-        let vr = unsafe { slice(valueReferences, nValueReferences, "valueReferences[]") }?;
-        // SAFETY: the importer passes nValues values.
-        let values = unsafe { slice(values, nValues, "values[]") }?;
-        Ok(inst.set_float64(vr, values))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SetReal, body) }
+    let (vr, new) = ((valueReferences, nValueReferences), (values, nValues));
+    // SAFETY: the importer passes an instance and arrays of the counts given.
+    unsafe { set_typed(instance, Function::SetReal, vr, new, Instance::set_float64) }
 }
 
 /// Reads Int32 variables (the integer wave parameters).
@@ -394,15 +427,17 @@ pub unsafe extern "C" fn fmi3GetInt32(
     values: *mut fmi3Int32,
     nValues: usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes nValueReferences value references.
-        let vr = unsafe { slice(valueReferences, nValueReferences, "valueReferences[]") }?;
-        // SAFETY: the importer passes room for nValues values.
-        let values = unsafe { slice_mut(values, nValues, "values[]") }?;
-        Ok(inst.get_integer(vr, values))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::GetInteger, body) }
+    let (vr, out) = ((valueReferences, nValueReferences), (values, nValues));
+    // SAFETY: the importer passes an instance and arrays of the counts given.
+    unsafe {
+        get_typed(
+            instance,
+            Function::GetInteger,
+            vr,
+            out,
+            Instance::get_integer,
+        )
+    }
 }
 
 /// Sets Int32 variables (the integer wave parameters, before initialization ends).
@@ -414,15 +449,17 @@ pub unsafe extern "C" fn fmi3SetInt32(
     values: *const fmi3Int32,
     nValues: usize,
 ) -> fmi3Status {
-    let body = |inst: &mut Instance| {
-        // SAFETY: the importer passes nValueReferences value references.
-        let vr = unsafe { slice(valueReferences, nValueReferences, "valueReferences[]") }?;
-        // SAFETY: the importer passes nValues values.
-        let values = unsafe { slice(values, nValues, "values[]") }?;
-        Ok(inst.set_integer(vr, values))
-    };
-    // SAFETY: the importer passes an instance from fmi3InstantiateCoSimulation.
-    unsafe { call3(instance, Function::SetInteger, body) }
+    let (vr, new) = ((valueReferences, nValueReferences), (values, nValues));
+    // SAFETY: the importer passes an instance and arrays of the counts given.
+    unsafe {
+        set_typed(
+            instance,
+            Function::SetInteger,
+            vr,
+            new,
+            Instance::set_integer,
+        )
+    }
 }
 
 /// The body of the get and set functions of a type this FMU has no variables of.
