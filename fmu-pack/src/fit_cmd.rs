@@ -88,7 +88,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         None
     };
     if let Some(imported) = whole_body {
-        let unsupported = [("--form", args.form.is_some()), ("--json", args.json)];
+        let unsupported = [("--form", args.form.is_some())];
         if let Some((flag, _)) = unsupported.iter().find(|(_, given)| *given) {
             return Err(format!(
                 "{flag} is not yet available for ship files and imported databases"
@@ -118,6 +118,16 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
                 ("omega (rad/s)", &|omega| omega),
             );
             write_figures(figures, dir)?;
+        }
+        if args.json {
+            let text = json_report(
+                &fitted.fit,
+                &fitted.database.dof_names,
+                fitted.times.0.as_secs_f64(),
+                fitted.times.1.as_secs_f64(),
+                &fitted.database.notes,
+            );
+            return crate::output::stdout(format!("{text}\n").as_bytes());
         }
         return crate::output::stdout(format!("{}\n", crate::body::fit_text(&fitted)).as_bytes());
     }
@@ -185,6 +195,9 @@ pub fn text(built: &Built) -> String {
         built.fit_time.as_secs_f64(),
         fit.iterations
     );
+    for note in &fit.notes {
+        let _ = writeln!(out, "note: {note}");
+    }
     let _ = writeln!(out, "entry errors (max, rms, scale):");
     for i in 0..names.len() {
         for j in i..names.len() {
@@ -231,8 +244,24 @@ pub fn text(built: &Built) -> String {
 
 /// The report as JSON.
 pub fn json(built: &Built) -> String {
-    let fit = &built.fit;
-    let names = &built.response.fitted.dof_names;
+    json_report(
+        &built.fit,
+        &built.response.fitted.dof_names,
+        built.sweep_time.as_secs_f64(),
+        built.fit_time.as_secs_f64(),
+        &[],
+    )
+}
+
+/// A fit as JSON: `names` its DOFs, the sweep's (or import's) and the fit's seconds, and
+/// notes of the data beside the fit's own (`notes` lists both, the fit's first).
+pub fn json_report(
+    fit: &hydrofmu::FitReport,
+    names: &[String],
+    sweep_seconds: f64,
+    fit_seconds: f64,
+    data_notes: &[String],
+) -> String {
     let matrix = |m: &nalgebra::DMatrix<f64>| {
         let rows: Vec<String> = (0..m.nrows())
             .map(|i| {
@@ -283,12 +312,18 @@ pub fn json(built: &Built) -> String {
             )
         })
         .collect();
-    let dofs: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    let dofs: Vec<String> = names.iter().map(|n| json_string(n)).collect();
+    let notes: Vec<String> = fit
+        .notes
+        .iter()
+        .chain(data_notes)
+        .map(|n| json_string(n))
+        .collect();
     format!(
         "{{\"dofs\":[{}],\"form\":\"{}\",\"order\":{},\"aux_dofs\":{},\"band_rad_per_s\":[{},{}],\
          \"points\":{},\"tolerance\":{},\"tolerance_met\":{},\"max_relative_error\":{},\
          \"max_error\":{},\"rms_error\":{},\"error_scale\":{},\"added_mass_inf\":{},\
-         \"rho\":{},\"g\":{},\"branches\":[{}],\"substructures\":[{}],\"states\":{},\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{}}}",
+         \"rho\":{},\"g\":{},\"branches\":[{}],\"substructures\":[{}],\"states\":{},\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{},\"notes\":[{}]}}",
         dofs.join(","),
         fit.network.form,
         fit.order,
@@ -308,10 +343,27 @@ pub fn json(built: &Built) -> String {
         branches.join(","),
         substructures.join(","),
         fit.states,
-        number(built.sweep_time.as_secs_f64()),
-        number(built.fit_time.as_secs_f64()),
-        fit.iterations
+        number(sweep_seconds),
+        number(fit_seconds),
+        fit.iterations,
+        notes.join(",")
     )
+}
+
+/// A JSON string literal (quotes, backslashes and control characters escaped).
+fn json_string(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('"');
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 fn number(x: f64) -> String {

@@ -1025,6 +1025,7 @@ fn convert(
         failures: Vec::new(),
         warnings,
         notes,
+        reciprocity_gap: DMatrix::zeros(n, n),
         body_panels: Vec::new(),
     };
     Ok(ImportedCapytaine {

@@ -9,6 +9,7 @@ use super::capytaine;
 use super::irregular::{self, SpikeParams};
 use super::wamit::{self, Source, WamitParams, WamitTexts};
 use super::{Database, DatabaseError};
+use nalgebra::DMatrix;
 use std::path::{Path, PathBuf};
 
 /// How to import, with documented defaults.
@@ -209,7 +210,7 @@ pub fn finish(
     params: &ImportParams,
 ) -> Result<(), DatabaseError> {
     let file = database.source.clone();
-    symmetrize(database);
+    let mut gaps = symmetrize(database);
     if let Some(spike_params) = &params.spikes {
         let spikes = irregular::find(
             &database.omega,
@@ -231,7 +232,9 @@ pub fn finish(
         super::retain_flagged(&mut database.excitation, &keep);
         super::retain_flagged(&mut database.froude_krylov, &keep);
         super::retain_flagged(&mut database.omega, &keep);
+        super::retain_flagged(&mut gaps, &keep);
     }
+    database.reciprocity_gap = largest_gap(&gaps, database.dof_names.len());
     if database.omega.len() < 3 {
         return Err(DatabaseError::file(
             &file,
@@ -284,15 +287,26 @@ pub fn finish(
     Ok(())
 }
 
-/// `A~` and `A_inf` made symmetric (reciprocity), the largest asymmetry noted.
-pub(super) fn symmetrize(database: &mut Database) {
+/// The entrywise largest of `gaps` (n x n zeros if there are none).
+pub(super) fn largest_gap(gaps: &[DMatrix<f64>], n: usize) -> DMatrix<f64> {
+    gaps.iter()
+        .fold(DMatrix::zeros(n, n), |acc, g| acc.zip_map(g, f64::max))
+}
+
+/// `A~` and `A_inf` made symmetric (reciprocity), the largest asymmetry noted; per frequency
+/// the gaps `|A~_ij - A~_ji| / 2` (SI, symmetric).
+pub(super) fn symmetrize(database: &mut Database) -> Vec<DMatrix<f64>> {
     let n = database.dof_names.len();
     let mut worst: (f64, usize, usize, f64) = (0.0, 0, 0, 0.0);
+    let mut gaps = Vec::with_capacity(database.omega.len());
     for (a, omega) in database.added_mass.iter_mut().zip(&database.omega) {
+        let mut gaps_here = DMatrix::zeros(n, n);
         for i in 0..n {
             for j in i + 1..n {
                 let scale = (a[(i, i)].norm() * a[(j, j)].norm()).sqrt();
                 let gap = (a[(i, j)] - a[(j, i)]).norm() / 2.0;
+                gaps_here[(i, j)] = gap;
+                gaps_here[(j, i)] = gap;
                 if scale > 0.0 && gap / scale > worst.0 {
                     worst = (gap / scale, i, j, *omega);
                 }
@@ -301,6 +315,7 @@ pub(super) fn symmetrize(database: &mut Database) {
                 a[(j, i)] = mean;
             }
         }
+        gaps.push(gaps_here);
     }
     let inf = &database.added_mass_inf;
     database.added_mass_inf = (inf + inf.transpose()) / 2.0;
@@ -314,6 +329,7 @@ pub(super) fn symmetrize(database: &mut Database) {
             worst.3
         ));
     }
+    gaps
 }
 
 /// Mixed units show in long waves: the heave exciting force of the lowest frequency tends

@@ -283,13 +283,39 @@ fn fit_form(
         )));
     }
     let problem = Problem::new(data, params.band)?;
+    let mut notes = Vec::new();
+    let tolerance = match noise_floor(&problem, params.noise.as_ref())? {
+        Some((floor, i, j)) if floor > tolerance => {
+            notes.push(format!(
+                "the data's own noise (reciprocity gap |A~_ij - A~_ji| / 2) reaches {:.3} % of \
+                 sqrt(|A_ii A_jj|) at {}-{}, above the tolerance {:.3} %: fitted to that noise \
+                 floor instead (a finer mesh of the source gives cleaner data)",
+                100.0 * floor,
+                problem.dof_names[i],
+                problem.dof_names[j],
+                100.0 * tolerance
+            ));
+            floor
+        }
+        _ => tolerance,
+    };
+    if problem.omega.len() < FEW_POINTS {
+        notes.push(format!(
+            "only {} frequencies in the band: the network passes near them and between them \
+             follows the lowest-order passive rational function that does (smooth, no \
+             resonance the data does not show); a denser database would confirm it",
+            problem.omega.len()
+        ));
+    }
     let rational = form == NetworkForm::Coupled
         && params.coupled_stages.is_none()
         && params.coupled_method == CoupledMethod::Rational;
-    let mut notes = Vec::new();
     let (order, network, iterations) = if rational {
         match rational::fit_rational(&problem, data, params, tolerance) {
-            Ok(fit) => fit,
+            Ok(outcome) => {
+                notes.extend(outcome.notes);
+                (outcome.order, outcome.network, outcome.iterations)
+            }
             Err(e) => {
                 notes.push(format!(
                     "the rational path failed ({e}); branch chains are used"
@@ -315,4 +341,34 @@ fn fit_form(
     let mut report = problem.report(network, order, tolerance, iterations);
     report.notes = notes;
     Ok(report)
+}
+
+/// Fewer band points than this get a note on what the network assumes between them.
+const FEW_POINTS: usize = 16;
+
+/// The largest `noise_ij / sqrt(s_i s_j)` and its entry, if a noise is given.
+fn noise_floor(
+    problem: &Problem,
+    noise: Option<&nalgebra::DMatrix<f64>>,
+) -> Result<Option<(f64, usize, usize)>, IdentifyError> {
+    let Some(noise) = noise else {
+        return Ok(None);
+    };
+    let n = problem.n();
+    if noise.shape() != (n, n) || !noise.iter().all(|x| x.is_finite() && *x >= 0.0) {
+        return Err(IdentifyError::InvalidParams(format!(
+            "noise must be a {n} x {n} matrix of finite values >= 0"
+        )));
+    }
+    let mut worst = (0.0, 0, 0);
+    for i in 0..n {
+        for j in 0..n {
+            let scale = (problem.scale[i] * problem.scale[j]).sqrt();
+            let floor = noise[(i, j)] / scale;
+            if floor > worst.0 {
+                worst = (floor, i.min(j), i.max(j));
+            }
+        }
+    }
+    Ok(Some(worst))
 }

@@ -40,6 +40,12 @@ pub struct FitParams {
     pub coupled_stages: Option<usize>,
     /// How the coupled form is fitted; default [`CoupledMethod::Rational`] (fewest states).
     pub coupled_method: CoupledMethod,
+    /// The data's own noise per entry (n x n, A~ units), e.g. an imported database's
+    /// reciprocity gap ([`crate::database::Database::reciprocity_gap`]); `None` (default):
+    /// none known. Where its largest entry over `sqrt(s_i s_j)` (the noise floor) exceeds the
+    /// tolerance, the fit aims at the noise floor instead and says so in
+    /// [`FitReport::notes`]: no network can be told apart from the data more finely.
+    pub noise: Option<DMatrix<f64>>,
 }
 
 /// How the coupled form is fitted (module docs of [`crate::identify`]).
@@ -67,6 +73,7 @@ impl Default for FitParams {
             seed: 1,
             coupled_stages: None,
             coupled_method: CoupledMethod::Rational,
+            noise: None,
         }
     }
 }
@@ -94,7 +101,8 @@ pub struct FitReport {
     pub error_scale: DMatrix<f64>,
     /// Largest `max_error / error_scale` over the entries.
     pub max_relative_error: f64,
-    /// The tolerance used (fraction of `error_scale`).
+    /// The tolerance used (fraction of `error_scale`): the one asked for, or the data's noise
+    /// floor where that is larger ([`FitParams::noise`]).
     pub tolerance: f64,
     /// Whether `max_relative_error <= tolerance`.
     pub tolerance_met: bool,
@@ -106,8 +114,9 @@ pub struct FitReport {
     pub iterations: usize,
     /// Largest change made to `A_inf` to make it symmetric PSD.
     pub added_mass_inf_adjustment: f64,
-    /// What the automatic form decided, one sentence each (the parallel bank replacing a
-    /// series chain that misses the tolerance); empty otherwise. The form used is
-    /// `network.form`.
+    /// What the fit decided and why, one sentence each: the form the automatic choice took,
+    /// orders that failed (and why), the order kept when none met the tolerance, a fallback
+    /// to branch chains, a tolerance raised to the data's noise floor, few frequencies. The
+    /// form used is `network.form`.
     pub notes: Vec<String>,
 }

@@ -43,8 +43,8 @@ fn candidate(
     let (fit, enforcements) = passive_block_vector_fit(data, params).map_err(|e| e.to_string())?;
     if let Some(e) = enforcements.iter().find(|e| !e.passive) {
         return Err(format!(
-            "no passive residues after {} rounds ({} cuts)",
-            e.rounds, e.cuts
+            "no passive residues after {} rounds ({} constraint frequencies, {} iterations)",
+            e.rounds, e.samples, e.iterations
         ));
     }
     let (lo, hi) = (problem.omega[0], problem.omega[problem.omega.len() - 1]);
@@ -126,51 +126,99 @@ fn independent_parts(fit: &RationalFit) -> Vec<RationalFit> {
     parts.into_iter().map(|(_, part)| part).collect()
 }
 
-/// Fits the coupled form by the rational path: `(order, network, vector fitting iterations)`.
+/// What the rational path found: the order and network chosen, vector fitting iterations,
+/// and notes (orders that failed and why, the order chosen when none met the tolerance).
+pub(super) struct RationalOutcome {
+    pub order: usize,
+    pub network: Network,
+    pub iterations: usize,
+    pub notes: Vec<String>,
+}
+
+/// Fits the coupled form by the rational path (module docs). Orders are tried upwards; the
+/// first one whose network meets the tolerance is returned. A network is never replaced by a
+/// worse one: if no order meets the tolerance, the one with the smallest error is returned.
+/// Orders above the data's resolution (at least one point more than twice the poles per
+/// block, per entry) are not tried.
 pub(super) fn fit_rational(
     problem: &Problem,
     data: &FrequencyResponse,
     params: &FitParams,
     tolerance: f64,
-) -> Result<(usize, Network, usize), IdentifyError> {
+) -> Result<RationalOutcome, IdentifyError> {
     // The data with the symmetric PSD A_inf the network gets.
     let mut data = data.clone();
     data.added_mass_inf = problem.added_mass_inf.clone();
     let band = (problem.omega[0], problem.omega[problem.omega.len() - 1]);
+    let points = problem.omega.len();
     let orders: Vec<usize> = match params.order {
         Some(k) => vec![k],
-        None => (1..=params.max_order).collect(),
+        None => (1..=params.max_order.min(points.saturating_sub(1)).max(1)).collect(),
     };
     let mut best: Option<(f64, usize, Network)> = None;
     let mut iterations = 0;
-    let mut last_failure = String::new();
+    let mut failures: Vec<String> = Vec::new();
+    let mut tried = Vec::new();
     for k in orders {
         for (pairs, real) in layouts(k) {
             let vf = VectorFitParams {
                 complex_pairs: pairs,
                 real_poles: real,
                 band,
+                passivity_margin: PASSIVITY_MARGIN * tolerance,
+                block_coupling: BLOCK_COUPLING * tolerance,
                 ..VectorFitParams::default()
             };
             iterations += vf.iterations;
             match candidate(problem, &data, &vf) {
                 Ok((error, network, _)) => {
+                    tried.push(format!("order {k}: {:.3} %", 100.0 * error));
                     if !matches!(&best, Some((e, _, _)) if *e <= error) {
                         best = Some((error, k, network));
                     }
                 }
-                Err(why) => last_failure = format!("order {k} ({pairs} pairs, {real} real): {why}"),
+                Err(why) => failures.push(format!("order {k} ({pairs} pairs, {real} real): {why}")),
             }
         }
         if matches!(&best, Some((e, _, _)) if *e <= tolerance) {
             break;
         }
     }
-    let (_, order, network) = best.ok_or_else(|| {
-        IdentifyError::Synthesis(format!("no order gave a passive network; {last_failure}"))
-    })?;
-    Ok((order, network, iterations))
+    let mut notes = Vec::new();
+    if !failures.is_empty() {
+        notes.push(format!(
+            "rational fit: {} candidate(s) failed: {}",
+            failures.len(),
+            failures.join("; ")
+        ));
+    }
+    let Some((error, order, network)) = best else {
+        return Err(IdentifyError::Synthesis(format!(
+            "no order gave a passive network; {}",
+            failures.join("; ")
+        )));
+    };
+    if error > tolerance {
+        notes.push(format!(
+            "rational fit: no order met the tolerance ({}); order {order} has the smallest error",
+            tried.join(", ")
+        ));
+    }
+    Ok(RationalOutcome {
+        order,
+        network,
+        iterations,
+        notes,
+    })
 }
+
+/// The passivity margin of the vector fits as a fraction of the tolerance (the damping it adds
+/// costs at most this much of the error budget).
+pub const PASSIVITY_MARGIN: f64 = 0.02;
+
+/// The couplings between invariant blocks that the split may drop, as a fraction of the
+/// tolerance.
+pub const BLOCK_COUPLING: f64 = 0.1;
 
 #[cfg(test)]
 mod tests {

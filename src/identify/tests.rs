@@ -415,7 +415,12 @@ fn automatic_form_is_coupled_for_several_dofs() {
     );
     assert_eq!(auto, coupled);
     assert_eq!(auto.network.form, NetworkForm::Coupled);
-    assert!(auto.notes.is_empty());
+    // No choice of form to report (the rational path's own notes may say which order won).
+    assert!(
+        auto.notes.iter().all(|n| !n.contains("automatic form")),
+        "{:?}",
+        auto.notes
+    );
 }
 
 /// Exact zero-order-hold simulation of the state space with a random velocity history;

@@ -28,8 +28,9 @@
 //! with the final poles (one factorization shared by all entries).
 //!
 //! The free fit is not passive by construction; [`crate::passivity`] decides, exactly, whether
-//! a realization of it is. [`passive_vector_fit`] solves the residues again under linear
-//! constraints that make it passive (poles fixed), cut by cut, until the exact check passes.
+//! a realization of it is. [`passive_vector_fit`] solves the residues again under the matrix
+//! inequalities that make it passive at sampled frequencies (poles fixed, convex), until the
+//! exact check passes.
 //! Measured on the semicircle (tests/identification.rs): sway 5 poles 0.0081 % free, 0.094 %
 //! passive; heave over kR 0.01 .. 4.5 with 6 poles 0.032 % free, 0.033 % passive. For many
 //! coupled DOFs the cuts converge slowly (the full 9 x 9 in one piece is not passive after 30
@@ -54,6 +55,13 @@ pub struct VectorFitParams {
     pub iterations: usize,
     /// Fitted band `(omega_lo, omega_hi)` in rad/s; frequencies outside are ignored.
     pub band: (f64, f64),
+    /// The passive fits' margin `mu` (normalized, module docs of [`passive_vector_fit`]): the
+    /// damping it adds changes `A~` by at most `mu sqrt(s_i s_j)`. Default 1e-4.
+    pub passivity_margin: f64,
+    /// [`passive_block_vector_fit`]: the largest coupling between invariant blocks
+    /// (normalized, as the error) that the split may drop. Data of a symmetric body is block
+    /// diagonal only to its mesh's accuracy. Default 1e-3 (a tenth of the default tolerance).
+    pub block_coupling: f64,
 }
 
 impl Default for VectorFitParams {
@@ -63,6 +71,8 @@ impl Default for VectorFitParams {
             real_poles: 0,
             iterations: 10,
             band: (0.0, f64::INFINITY),
+            passivity_margin: 1e-4,
+            block_coupling: 1e-3,
         }
     }
 }
@@ -534,30 +544,36 @@ pub fn vector_fit(
 pub struct Enforcement {
     /// The free fit's largest normalized error (before the constraints).
     pub free_error: f64,
-    /// Constraint rounds (each adds the cuts of the violations the check found).
+    /// Constrained solves (each after an exact check that failed; the first on the log grid,
+    /// each later one with the violations the check found added).
     pub rounds: usize,
-    /// Linear constraints in the final solve.
-    pub cuts: usize,
+    /// Constraint frequencies of the last solve.
+    pub samples: usize,
+    /// ADMM iterations over all rounds.
+    pub iterations: usize,
     /// The exact check ([`crate::passivity`]) passes on the result.
     pub passive: bool,
 }
 
 /// Largest number of constraint rounds of [`passive_vector_fit`].
-const MAX_ROUNDS: usize = 30;
+const MAX_ROUNDS: usize = 6;
 
 /// [`vector_fit`], then the residues again, least squares under the constraints that make the
-/// model passive (poles fixed; convex):
+/// model passive (poles fixed; convex): the whole matrix inequality
 ///
 /// ```text
-/// v^T Re K(i omega_c) v >= 0  at each violation omega_c found,   v^T K(inf) v >= 0,
+/// Re K(i omega) >= delta(omega) I,   delta(omega) = mu b_lo omega^2 / (omega^2 + b_lo^2),
 /// ```
 ///
-/// `K(s) = s G(s)` the impedance, `v` the eigenvector of the most negative eigenvalue there.
-/// Each round runs the exact check on the current model, samples the smallest eigenvalue of
-/// `Re K` on a log grid (1601 points from 1e-4 of the band's bottom to 1e4 times its top)
-/// together with the check's crossings, adds a cut at every local minimum below
-/// zero (and at `omega -> inf` if `K(inf)` is indefinite), and solves again, until the check
-/// passes or 30 rounds.
+/// `K(s) = s G(s)` the impedance (normalized units, `b_lo` the band's bottom, `mu` =
+/// [`VectorFitParams::passivity_margin`]), at every frequency of a log grid (16 per decade
+/// from 1e-3 of the band's bottom to 1e3 times its top), the band's points, the poles'
+/// frequencies and `omega -> inf`; solved by ADMM ([`crate::numerics`]). Each round runs the
+/// exact check ([`crate::passivity`]); if it fails, its crossings and the midpoints between
+/// them join the samples and the solve continues from where it stopped, at most 6 rounds.
+/// The margin's damping changes `A~` by at most `mu sqrt(s_i s_j)` anywhere: it lets the
+/// model keep the data's zero damping directions (a 2D section radiates two waves, so its
+/// damping matrix has rank 2) without crossing into negative damping.
 pub fn passive_vector_fit(
     response: &FrequencyResponse,
     params: &VectorFitParams,
@@ -579,7 +595,6 @@ pub fn passive_block_vector_fit(
     response: &FrequencyResponse,
     params: &VectorFitParams,
 ) -> Result<(RationalFit, Vec<Enforcement>), IdentifyError> {
-    use super::coupled::blocks::{invariant_blocks, COMMUTANT_THRESHOLD};
     let problem = Problem::new(response, params)?;
     let n = problem.n;
     let target: Vec<DMatrix<Complex64>> = (0..problem.s.len())
@@ -614,7 +629,7 @@ pub fn passive_block_vector_fit(
     let mut poles_all: Poles = Vec::new();
     let mut residues_all: Vec<DMatrix<Complex64>> = Vec::new();
     let mut enforcements = Vec::new();
-    for block in invariant_blocks(&reduced, COMMUTANT_THRESHOLD) {
+    for block in noisy_invariant_blocks(&reduced, &span, params.block_coupling) {
         let basis = &span * block; // n x d, orthonormal
         let d = basis.ncols();
         let q = basis.map(|x| Complex64::new(x, 0.0));
@@ -635,6 +650,15 @@ pub fn passive_block_vector_fit(
             scales: DVector::from_element(d, 1.0),
             omega_ref: 1.0,
         };
+        // A block whose data is within the budget everywhere is left out (no states).
+        let largest = sub
+            .entries
+            .iter()
+            .flat_map(|e| e.iter().map(|z| z.norm()))
+            .fold(0.0, f64::max);
+        if largest <= params.block_coupling {
+            continue;
+        }
         let (poles, x, enforcement) = enforce(&sub, params);
         enforcements.push(enforcement);
         // Normalized block model, mapped back: R = B r B^T.
@@ -673,62 +697,189 @@ pub fn passive_block_vector_fit(
     ))
 }
 
+/// The invariant blocks of the reduced target ([`crate::identify`], module docs) of noisy
+/// data: for each commutant threshold (1e-6 .. 1e-2 of the largest singular value) the blocks,
+/// then the two blocks coupled most merged until the couplings dropped are at most `budget`
+/// (normalized, in the original DOFs through `span`); the most blocks win. One block (the
+/// identity) if no split keeps within the budget.
+fn noisy_invariant_blocks(
+    reduced: &[DMatrix<Complex64>],
+    span: &DMatrix<f64>,
+    budget: f64,
+) -> Vec<DMatrix<f64>> {
+    use super::coupled::blocks::{invariant_blocks_with_gap, BLOCK_GAP, COMMUTANT_THRESHOLD};
+    let r = span.ncols();
+    let complex = |m: &DMatrix<f64>| m.map(|x| Complex64::new(x, 0.0));
+    let span_c = complex(span);
+    // Largest normalized entry of span Q_a Q_a^T T Q_b Q_b^T span^T over the band.
+    let coupling = |a: &DMatrix<f64>, b: &DMatrix<f64>| {
+        let (pa, pb) = (complex(&(a * a.transpose())), complex(&(b * b.transpose())));
+        reduced
+            .iter()
+            .map(|t| {
+                (&span_c * &pa * t * &pb * span_c.transpose())
+                    .iter()
+                    .map(|z| z.norm())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut best = vec![DMatrix::identity(r, r)];
+    let mut threshold = COMMUTANT_THRESHOLD;
+    while threshold <= 1e-2 * (1.0 + 1e-9) {
+        let mut blocks =
+            invariant_blocks_with_gap(reduced, threshold, BLOCK_GAP.max(10.0 * threshold));
+        threshold *= 10.0;
+        while blocks.len() > best.len() {
+            // The pair coupled most; the split is kept when even that one is within budget.
+            let mut worst = (0.0, 0, 0);
+            for i in 0..blocks.len() {
+                for j in i + 1..blocks.len() {
+                    let c = coupling(&blocks[i], &blocks[j]);
+                    if c > worst.0 {
+                        worst = (c, i, j);
+                    }
+                }
+            }
+            if worst.0 <= budget {
+                best = blocks;
+                break;
+            }
+            let (_, i, j) = worst;
+            let merged = DMatrix::from_fn(r, blocks[i].ncols() + blocks[j].ncols(), |row, c| {
+                if c < blocks[i].ncols() {
+                    blocks[i][(row, c)]
+                } else {
+                    blocks[j][(row, c - blocks[i].ncols())]
+                }
+            });
+            blocks.remove(j);
+            blocks[i] = merged;
+        }
+    }
+    best
+}
+
+/// Constraint frequencies per decade of the enforcement's log grid.
+const SAMPLES_PER_DECADE: f64 = 16.0;
+
+/// ADMM iterations per enforcement round, and its relative stopping tolerance.
+const ADMM_ITERATIONS: usize = 500;
+const ADMM_TOLERANCE: f64 = 1e-6;
+
 /// The poles and the passive residues of a normalized problem (see [`passive_vector_fit`]).
 fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>, Enforcement) {
-    use crate::numerics::triangular_inequality_least_squares;
+    use crate::numerics::{lmi_least_squares, MatrixInequalities};
 
     let poles = problem.poles(params);
     let (a, rhs) = problem.residue_system(&poles);
-    let (basis_size, entries) = (a.ncols(), rhs.ncols());
-    // Block-diagonal problem: one QR of the basis, every entry its own right-hand side.
-    let qr = a.clone().qr();
-    let r_block = qr.r();
-    let c_block = qr.q().tr_mul(&rhs);
-    let size = basis_size * entries;
-    let mut r = DMatrix::zeros(size, size);
-    let mut c = DVector::zeros(size);
-    for e in 0..entries {
-        r.view_mut((e * basis_size, e * basis_size), (basis_size, basis_size))
-            .copy_from(&r_block);
-        c.rows_mut(e * basis_size, basis_size)
-            .copy_from(&c_block.column(e));
-    }
-    let as_matrix =
-        |x: &DVector<f64>| DMatrix::from_column_slice(basis_size, entries, x.as_slice());
+    let basis_size = a.ncols();
     let free = least_squares(&a, &rhs);
     let free_error = problem.max_error(&a, &rhs, &free);
-    let mut x = DVector::from_column_slice(free.as_slice());
-
-    // K(inf) = sum of residues: coefficient 1 per real pole, (2, 0) per pair.
-    let kinf: Vec<f64> = poles
-        .iter()
-        .flat_map(|p| {
-            if p.im == 0.0 {
-                vec![1.0]
-            } else {
-                vec![2.0, 0.0]
-            }
-        })
-        .collect();
-    let (b_lo, b_hi) = (problem.s[0].im, problem.s[problem.s.len() - 1].im);
-    let grid: Vec<f64> = (0..=1600)
-        .map(|k| 1e-4 * b_lo * (1e8 * b_hi / b_lo).powf(k as f64 / 1600.0))
-        .collect();
-    let n = problem.n;
-    let symmetric = |values: &dyn Fn(usize) -> f64| {
-        let mut m = DMatrix::zeros(n, n);
-        for (e, &(i, j)) in problem.pairs.iter().enumerate() {
-            m[(i, j)] = values(e);
-            m[(j, i)] = values(e);
+    // Columns scaled to unit norm (the constraint rows with them), then R of a QR.
+    let norms = DVector::from_fn(basis_size, |j, _| {
+        let n = a.column(j).norm();
+        if n > 0.0 {
+            n
+        } else {
+            1.0
         }
-        m
+    });
+    let mut scaled = a.clone();
+    for j in 0..basis_size {
+        scaled.column_mut(j).unscale_mut(norms[j]);
+    }
+    let qr = scaled.qr();
+    let r = qr.r();
+    let c = qr.q().tr_mul(&rhs);
+    let to_scaled = |x: &DMatrix<f64>| {
+        let mut y = x.clone();
+        for j in 0..basis_size {
+            y.row_mut(j).scale_mut(norms[j]);
+        }
+        y
     };
-    let mut cuts: Vec<DVector<f64>> = Vec::new();
+    let from_scaled = |y: &DMatrix<f64>| {
+        let mut x = y.clone();
+        for j in 0..basis_size {
+            x.row_mut(j).unscale_mut(norms[j]);
+        }
+        x
+    };
+
+    // Re K(i w) = sum_j psi_j(w) x_j with psi_j = Re(i w phi_j(i w)); at w -> inf: 1 per real
+    // pole, (2, 0) per pair. Margin delta(w) = mu b_lo w^2 / (w^2 + b_lo^2): the damping it
+    // adds costs at most mu (normalized) in A~ at any frequency.
+    let (b_lo, b_hi) = (problem.s[0].im, problem.s[problem.s.len() - 1].im);
+    let mu = params.passivity_margin;
+    let margin = |w: f64| {
+        if w.is_infinite() {
+            mu * b_lo
+        } else {
+            mu * b_lo * w * w / (w * w + b_lo * b_lo)
+        }
+    };
+    let psi = |w: f64| -> Vec<f64> {
+        if w.is_infinite() {
+            return poles
+                .iter()
+                .flat_map(|p| {
+                    if p.im == 0.0 {
+                        vec![1.0]
+                    } else {
+                        vec![2.0, 0.0]
+                    }
+                })
+                .collect();
+        }
+        let mut row = Vec::new();
+        basis_row(&poles, Complex64::new(0.0, w), &mut row);
+        row.iter()
+            .map(|phi| (Complex64::new(0.0, w) * phi).re)
+            .collect()
+    };
+    let (from, to) = (b_lo * 1e-3, b_hi * 1e3);
+    let count = ((to / from).log10() * SAMPLES_PER_DECADE).ceil() as usize;
+    let mut frequencies: Vec<f64> = (0..=count)
+        .map(|k| from * (to / from).powf(k as f64 / count as f64))
+        .collect();
+    frequencies.extend(problem.s.iter().map(|s| s.im));
+    frequencies.push(f64::INFINITY);
+    // The pole frequencies themselves, where lightly damped poles change fastest.
+    frequencies.extend(poles.iter().map(|p| p.im.abs()).filter(|w| *w > 0.0));
+
+    let n = problem.n;
+    // A direction that raises Re K at every frequency: per real pole the residue I, per pair
+    // p = -alpha + i beta the residue (1 - i beta / alpha) I, whose term
+    // 2 (s + |p|^2 / alpha) / (s^2 + 2 alpha s + |p|^2) has Re K = 2 w^2 (w^2 + |p|^2) / |den|^2.
+    // Each pole's part has unit norm in the scaled coefficients.
+    let mut raise = DVector::<f64>::zeros(basis_size);
+    let mut column = 0;
+    for p in &poles {
+        let part: Vec<f64> = if p.im == 0.0 {
+            vec![norms[column]]
+        } else {
+            vec![norms[column], -p.im / -p.re * norms[column + 1]]
+        };
+        let size = part.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for (j, v) in part.iter().enumerate() {
+            raise[column + j] = v / size;
+        }
+        column += part.len();
+    }
+    let diagonal: Vec<usize> = (0..problem.pairs.len())
+        .filter(|&e| problem.pairs[e].0 == problem.pairs[e].1)
+        .collect();
+    let mut y = to_scaled(&free);
+    let mut shifted = y.clone();
     let mut rounds = 0;
+    let mut iterations = 0;
     let mut passive = false;
+    let mut state = None;
     let tolerance = 1e-9;
     loop {
-        let model = problem.model(&poles, &as_matrix(&x), 0.0, true);
+        let x = from_scaled(&shifted);
+        let model = problem.model(&poles, &x, 0.0, true);
         let report = model.passivity(tolerance);
         if report.passive {
             passive = true;
@@ -738,91 +889,84 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
             break;
         }
         rounds += 1;
-        // Smallest eigenvalue of Re K on the grid and at the crossings.
-        let mut frequencies = grid.clone();
-        frequencies.extend(&report.crossings);
-        frequencies.extend(report.crossings.windows(2).map(|w| 0.5 * (w[0] + w[1])));
-        frequencies.push(report.at_omega);
-        frequencies.sort_by(f64::total_cmp);
-        let lowest: Vec<(f64, DVector<f64>)> = frequencies
-            .iter()
-            .map(|&w| {
-                let k = model.evaluate(w) * Complex64::new(0.0, w);
+        if rounds > 1 {
+            // Violations between the samples: a fine grid over every interval between the
+            // check's crossings where Re K is indefinite (the samples are appended: the solve
+            // continues from its state).
+            let mut edges = vec![0.0];
+            edges.extend(&report.crossings);
+            edges.push(2.0 * report.crossings.last().copied().unwrap_or(b_hi).max(b_hi));
+            for w in edges.windows(2) {
+                let (lo, hi) = (w[0].max(from), w[1]);
+                if hi <= lo {
+                    continue;
+                }
+                let middle = (lo * hi).sqrt();
+                let k = model.evaluate(middle) * Complex64::new(0.0, middle);
                 let re = (&k + k.adjoint()).map(|z| z.re) * 0.5;
-                let eig = crate::numerics::symmetric_eigen(&re);
-                let m = eig.eigenvalues.imin();
-                (eig.eigenvalues[m], eig.eigenvectors.column(m).into_owned())
-            })
-            .collect();
-        let floor = -tolerance * report.scale;
-        let phi_row = |w: f64| {
-            let mut row = Vec::new();
-            basis_row(&poles, Complex64::new(0.0, w), &mut row);
-            row
+                if crate::numerics::symmetric_eigen(&re).eigenvalues.min() < 0.0 {
+                    frequencies.extend((0..=16).map(|j| lo * (hi / lo).powf(j as f64 / 16.0)));
+                }
+            }
+            if report.at_omega.is_finite() && report.at_omega > 0.0 {
+                frequencies.push(report.at_omega);
+            }
+        }
+        let mut rows = DMatrix::zeros(frequencies.len(), basis_size);
+        for (k, &w) in frequencies.iter().enumerate() {
+            for (j, v) in psi(w).into_iter().enumerate() {
+                rows[(k, j)] = v / norms[j];
+            }
+        }
+        let margins: Vec<f64> = frequencies.iter().map(|&w| margin(w)).collect();
+        let constraints = MatrixInequalities {
+            n,
+            pairs: &problem.pairs,
+            rows: &rows,
+            margins: &margins,
         };
-        let mut added = 0;
-        for k in 0..lowest.len() {
-            let here = lowest[k].0;
-            let left = if k > 0 {
-                lowest[k - 1].0
-            } else {
-                f64::INFINITY
-            };
-            let right = lowest.get(k + 1).map_or(f64::INFINITY, |l| l.0);
-            if here < floor && here <= left && here <= right {
-                let w = frequencies[k];
-                let v = &lowest[k].1;
-                // v^T Re(i w G) v, linear in x: coefficient of x_(e, j).
-                let row = phi_row(w);
-                let mut cut = DVector::zeros(size);
-                for (e, &(i, j)) in problem.pairs.iter().enumerate() {
-                    let weight = v[i] * v[j] * if i == j { 1.0 } else { 2.0 };
-                    for (col, phi) in row.iter().enumerate() {
-                        cut[e * basis_size + col] = weight * (Complex64::new(0.0, w) * phi).re;
-                    }
-                }
-                cuts.push(cut);
-                added += 1;
-            }
-        }
-        let k_inf = symmetric(&|e| {
-            (0..basis_size)
-                .map(|col| kinf[col] * x[e * basis_size + col])
-                .sum::<f64>()
-        });
-        let eig = crate::numerics::symmetric_eigen(&k_inf);
-        let m = eig.eigenvalues.imin();
-        if eig.eigenvalues[m] < floor {
-            let v = eig.eigenvectors.column(m);
-            let mut cut = DVector::zeros(size);
+        let solution = lmi_least_squares(
+            &r,
+            &c,
+            &constraints,
+            &y,
+            state.as_ref(),
+            ADMM_ITERATIONS,
+            ADMM_TOLERANCE,
+        );
+        iterations += solution.iterations;
+        y = solution.x;
+        state = Some(solution.state);
+        // The iterate meets the inequalities to the solver's residual; the smallest step along
+        // `raise` that gives every sample half its margin removes the rest.
+        let values = &rows * &y;
+        let mut step: f64 = 0.0;
+        for k in 0..frequencies.len() {
+            let mut m = DMatrix::zeros(n, n);
             for (e, &(i, j)) in problem.pairs.iter().enumerate() {
-                let weight = v[i] * v[j] * if i == j { 1.0 } else { 2.0 };
-                for col in 0..basis_size {
-                    cut[e * basis_size + col] = weight * kinf[col];
-                }
+                m[(i, j)] = values[(k, e)];
+                m[(j, i)] = values[(k, e)];
             }
-            cuts.push(cut);
-            added += 1;
+            let lowest = crate::numerics::symmetric_eigen(&m).eigenvalues.min();
+            let gain = rows.row(k).dot(&raise.transpose());
+            let missing = 0.5 * margins[k] - lowest;
+            if missing > 0.0 && gain > 0.0 {
+                step = step.max(missing / gain);
+            }
         }
-        if added == 0 {
-            break;
-        }
-        let g = DMatrix::from_fn(cuts.len(), size, |row, col| cuts[row][col]);
-        // A small positive margin so that the next model clears the check's tolerance.
-        let h = DVector::from_element(cuts.len(), 2.0 * tolerance * report.scale);
-        match triangular_inequality_least_squares(&r, &c, &g, &h) {
-            Some(next) => x = next,
-            None => break,
+        shifted = y.clone();
+        for &e in &diagonal {
+            shifted.column_mut(e).axpy(step, &raise, 1.0);
         }
     }
-    let xm = as_matrix(&x);
     (
         poles,
-        xm,
+        from_scaled(&shifted),
         Enforcement {
             free_error,
             rounds,
-            cuts: cuts.len(),
+            samples: frequencies.len(),
+            iterations,
             passive,
         },
     )

@@ -25,7 +25,7 @@ pub(super) const BLOCK_COUPLING: f64 = 1e-3;
 
 /// Eigenvalues of a generic commutant element closer than this fraction of their spread
 /// belong to one block.
-pub(super) const BLOCK_GAP: f64 = 1e-4;
+pub(in crate::identify) const BLOCK_GAP: f64 = 1e-4;
 
 /// Eigenvalues of the target's Gram matrix below this fraction of the largest are dropped.
 pub(super) const REDUCTION_TOLERANCE: f64 = 1e-12;
@@ -207,6 +207,16 @@ pub(in crate::identify) fn invariant_blocks(
     target: &[DMatrix<Complex64>],
     threshold: f64,
 ) -> Vec<DMatrix<f64>> {
+    invariant_blocks_with_gap(target, threshold, BLOCK_GAP)
+}
+
+/// [`invariant_blocks`] with eigenvalues of the generic element closer than `gap` times
+/// their spread taken as one (noisy data: a looser threshold needs a wider gap).
+pub(in crate::identify) fn invariant_blocks_with_gap(
+    target: &[DMatrix<Complex64>],
+    threshold: f64,
+    gap: f64,
+) -> Vec<DMatrix<f64>> {
     let r = target[0].nrows();
     let whole = vec![DMatrix::identity(r, r)];
     if r < 2 {
@@ -227,8 +237,7 @@ pub(in crate::identify) fn invariant_blocks(
     let spread = eigen.eigenvalues.max() - eigen.eigenvalues.min();
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (k, &i) in order.iter().enumerate() {
-        let new =
-            k == 0 || eigen.eigenvalues[i] - eigen.eigenvalues[order[k - 1]] > BLOCK_GAP * spread;
+        let new = k == 0 || eigen.eigenvalues[i] - eigen.eigenvalues[order[k - 1]] > gap * spread;
         if new {
             groups.push(vec![i]);
         } else if let Some(last) = groups.last_mut() {

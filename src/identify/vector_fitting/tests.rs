@@ -175,7 +175,7 @@ fn enforcement_leaves_a_passive_fit_alone() {
         assert_eq!(enforcement.rounds, 0);
         assert!(fit.max_error < 1e-10);
     } else {
-        assert!(enforcement.rounds > 0 && enforcement.cuts > 0);
+        assert!(enforcement.rounds > 0 && enforcement.samples > 0);
         assert!(fit.max_error >= free.max_error);
     }
 }

@@ -1,0 +1,220 @@
+//! The default fit on inputs nobody tuned it to: the example ship sections (midship, barge)
+//! as `fmu-pack fit` sweeps them, and WAMIT's own 7-frequency hemisphere. Each must meet the
+//! 1 % tolerance with at most the states a passive vector fit of the same data needs (the
+//! peers' column of the identification table, docs/IDENTIFICATION.md), be passive by the
+//! exact check, and forget a velocity pulse. Times are measured by
+//! `cargo run --release -p fmu-pack --example identification`, not here.
+
+use hydrofmu::database::import::{import, ImportParams};
+use hydrofmu::fmu::variables::Quantity;
+use hydrofmu::hull::Hull;
+use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
+use hydrofmu::network::Network;
+use hydrofmu::scene::Scene;
+use std::path::Path;
+
+/// The scene's default fit of a hull file in `examples/hulls` (all DOFs, kR 0.05 .. 5).
+fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/hulls")
+        .join(file);
+    let built = Scene::new(Hull::from_file(&path).unwrap()).build().unwrap();
+    let sweep = built.sweep(&|_, _| {}).unwrap();
+    let response = built.response(&sweep).unwrap();
+    let fit = built.fit(&response).unwrap();
+    (response.fitted, fit)
+}
+
+/// Passive by the exact check, stable, and 300 s after a 1 s unit velocity pulse in any DOF
+/// every force is below 1e-3 of its peak (no spurious slow mode).
+fn assert_passive_and_forgets_a_pulse(network: &Network) {
+    let check = hydrofmu::passivity::check(&network.state_space().unwrap(), 1e-9);
+    assert!(check.passive && check.stable, "{check:?}");
+    let n = network.dof_count();
+    for dof in 0..n {
+        let mut model = hydrofmu::Model::new(
+            network,
+            hydrofmu::ModelOptions {
+                keep_inf_mass: false,
+                guid: None,
+            },
+        )
+        .unwrap();
+        let h = 0.05;
+        let (mut peak, mut last): (f64, f64) = (0.0, 0.0);
+        for k in 0..(301.0 / h) as usize {
+            let t = k as f64 * h;
+            let v = if t < 1.0 - 1e-9 { 1.0 } else { 0.0 };
+            model.set_value(Quantity::Velocity(dof), v).unwrap();
+            let largest = (0..n)
+                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
+                .fold(0.0, f64::max);
+            peak = peak.max(largest);
+            model.step(model.time(), h).unwrap();
+            last = (0..n)
+                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
+                .fold(0.0, f64::max);
+        }
+        assert!(last < 1e-3 * peak, "DOF {dof}: {last:e} of a peak {peak:e}");
+    }
+}
+
+/// The midship section (6 DOFs: sway, heave, roll and three plating modes). Before: 6 states
+/// at 50.7 %, tolerance missed (every order >= 2 failed the passivity enforcement). Peer: a
+/// passive vector fit with 36 states at 0.66 %. Measured: 30 states, 0.549 %.
+#[test]
+fn midship_meets_the_tolerance_with_fewer_states_than_a_vector_fit() {
+    let (_, fit) = section_fit("midship.xml");
+    eprintln!(
+        "midship: {} states, {:.3} %, notes {:?}",
+        fit.states,
+        100.0 * fit.max_relative_error,
+        fit.notes
+    );
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    assert!(
+        fit.max_relative_error < 0.0065,
+        "{}",
+        fit.max_relative_error
+    );
+    assert!(fit.states <= 36, "{}", fit.states);
+    assert!(!fit.network.substructures.is_empty());
+    assert_passive_and_forgets_a_pulse(&fit.network);
+}
+
+/// The barge section. Before: 6 states at 60.4 %. Peer: 36 states at 0.97 %. Measured: 36
+/// states, 0.575 %.
+#[test]
+fn barge_meets_the_tolerance_with_at_most_a_vector_fits_states() {
+    let (_, fit) = section_fit("barge.xml");
+    eprintln!(
+        "barge: {} states, {:.3} %, notes {:?}",
+        fit.states,
+        100.0 * fit.max_relative_error,
+        fit.notes
+    );
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    assert!(
+        fit.max_relative_error < 0.0068,
+        "{}",
+        fit.max_relative_error
+    );
+    assert!(fit.states <= 36, "{}", fit.states);
+    assert_passive_and_forgets_a_pulse(&fit.network);
+}
+
+/// WAMIT's hemisphere at 7 frequencies (tests/data/wamit). Before: 12 states at 5.2 %, order
+/// 7 refused. Peer: 21 states at 0.21 %. Measured: 18 states, 0.998 %, and a note that says
+/// what the network assumes between the 7 points.
+#[test]
+fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/wamit/sphere.1");
+    let database = import(&path, &ImportParams::new()).unwrap();
+    let fit = identify::fit(
+        &database.response(),
+        &FitParams {
+            noise: Some(database.reciprocity_gap.clone()),
+            ..FitParams::default()
+        },
+    )
+    .unwrap();
+    eprintln!(
+        "sphere: {} states, {:.4} %, order {}, notes {:?}",
+        fit.states,
+        100.0 * fit.max_relative_error,
+        fit.order,
+        fit.notes
+    );
+    assert_eq!(fit.points, 7);
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    assert!(fit.states <= 21, "{}", fit.states);
+    // Fewer poles per invariant block than points.
+    assert!(fit.order < 7, "{}", fit.order);
+    assert!(
+        fit.notes.iter().any(|n| n.contains("only 7 frequencies")),
+        "{:?}",
+        fit.notes
+    );
+    assert_passive_and_forgets_a_pulse(&fit.network);
+}
+
+/// A noisy database: the hemisphere with `A~_15` and `A~_51` (surge-pitch) moved apart by 6 %
+/// of `sqrt(s_1 s_5)`, in alternating directions from one frequency to the next (the mean, the
+/// data fitted, unchanged). The import records the gap, and the fit aims at that 3 % noise
+/// floor instead of the 1 % tolerance, with a note naming the entry.
+#[test]
+fn noise_above_the_tolerance_sets_the_floor_with_a_note() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/wamit/sphere.1");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let database = import(&path, &ImportParams::new()).unwrap();
+    let data = database.response();
+    let scales = identify::dof_scales(&data.added_mass).unwrap();
+    // Surge (1) and pitch (5): the .1 gives A / (rho L^k), L = 1 m.
+    let gap = 0.03 * (scales[0] * scales[4]).sqrt() / database.rho;
+    let mut periods: Vec<&str> = Vec::new();
+    let noisy: String = text
+        .lines()
+        .map(|line| {
+            let fields: Vec<&str> = line.split_whitespace().collect();
+            let coupling = [("1", "5", 1.0), ("5", "1", -1.0)]
+                .iter()
+                .find(|(i, j, _)| fields.len() == 5 && fields[1] == *i && fields[2] == *j)
+                .map(|c| c.2);
+            let Some(side) = coupling else {
+                return line.to_string();
+            };
+            if !periods.contains(&fields[0]) {
+                periods.push(fields[0]);
+            }
+            let k = periods.iter().position(|p| *p == fields[0]).unwrap();
+            let sign = if k % 2 == 0 { side } else { -side };
+            let a: f64 = fields[3].parse().unwrap();
+            format!(
+                "{} {} {} {:.6E} {}",
+                fields[0],
+                fields[1],
+                fields[2],
+                a + sign * gap,
+                fields[4]
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let dir = std::env::temp_dir().join(format!("hydrofmu-noise-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let noisy_path = dir.join("sphere.1");
+    std::fs::write(&noisy_path, noisy).unwrap();
+    let params = ImportParams {
+        spikes: None,
+        ..ImportParams::new()
+    };
+    let noisy = import(&noisy_path, &params).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let fit = identify::fit(
+        &noisy.response(),
+        &FitParams {
+            noise: Some(noisy.reciprocity_gap.clone()),
+            ..FitParams::default()
+        },
+    )
+    .unwrap();
+    eprintln!(
+        "noisy sphere: tolerance {:.4} %, error {:.4} %, notes {:?}",
+        100.0 * fit.tolerance,
+        100.0 * fit.max_relative_error,
+        fit.notes
+    );
+    // The floor is the gap over sqrt(s_surge s_pitch), 3 % to the file's 7 digits.
+    assert!((fit.tolerance - 0.03).abs() < 1e-5, "{}", fit.tolerance);
+    let note = fit
+        .notes
+        .iter()
+        .find(|n| n.contains("noise"))
+        .expect("a noise note");
+    assert!(note.contains("surge-pitch"), "{note}");
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    // The floor stops the order search earlier than the clean data's 1 % (18 states):
+    // measured 1.66 % with fewer states.
+    assert!(fit.max_relative_error > 0.01, "{}", fit.max_relative_error);
+    assert!(fit.states < 18, "{}", fit.states);
+}
