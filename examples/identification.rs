@@ -137,6 +137,7 @@ fn main() {
         let params = FitParams {
             band: case.band,
             noise: case.noise.clone(),
+            max_order: std::env::var("MAX_ORDER").map_or(12, |v| v.parse().unwrap()),
             ..FitParams::default()
         };
         let start = Instant::now();

@@ -16,7 +16,7 @@
 
 use super::problem::Problem;
 use super::synthesis::synthesize;
-use super::vector_fitting::{passive_block_vector_fit, RationalFit, VectorFitParams};
+use super::vector_fitting::{BlockFit, Blocks, RationalFit, VectorFitParams};
 use super::{FitParams, FrequencyResponse, IdentifyError};
 use crate::network::Network;
 
@@ -34,32 +34,10 @@ fn layouts(k: usize) -> Vec<(usize, usize)> {
     }
 }
 
-/// A candidate of one layout: its network and largest normalized error, or why it failed.
-fn candidate(
-    problem: &Problem,
-    data: &FrequencyResponse,
-    params: &VectorFitParams,
-) -> Result<(f64, Network, RationalFit), String> {
-    let (fit, enforcements) = passive_block_vector_fit(data, params).map_err(|e| e.to_string())?;
-    if let Some(e) = enforcements.iter().find(|e| !e.passive) {
-        return Err(format!(
-            "no passive residues after {} rounds ({} constraint frequencies, {} iterations)",
-            e.rounds, e.samples, e.iterations
-        ));
-    }
-    let (lo, hi) = (problem.omega[0], problem.omega[problem.omega.len() - 1]);
-    if let Some(p) = fit
-        .poles
-        .iter()
-        .find(|p| p.norm() < lo / POLE_RANGE || p.norm() > hi * POLE_RANGE)
-    {
-        return Err(format!(
-            "a pole at {:.3e} rad/s lies outside the band ({lo:.3e}, {hi:.3e}) rad/s by more \
-             than a factor {POLE_RANGE}",
-            p.norm()
-        ));
-    }
-    let substructures = independent_parts(&fit)
+/// The network of a passive fit, its parts realized as substructures, and its largest
+/// normalized error against the data.
+fn network_of(problem: &Problem, fit: &RationalFit) -> Result<(f64, Network), String> {
+    let substructures = independent_parts(fit)
         .iter()
         .map(|part| synthesize(part).map(|(sub, _)| sub))
         .collect::<Result<Vec<_>, _>>()
@@ -72,7 +50,29 @@ fn candidate(
         problem.g,
     );
     network.validate().map_err(|e| e.to_string())?;
-    Ok((problem.max_relative_error(&network), network, fit))
+    Ok((problem.max_relative_error(&network), network))
+}
+
+/// Why a block's fit cannot be used: not passive, or a pole outside [`POLE_RANGE`] of the band.
+fn refusal(fit: &BlockFit, omega_ref: f64, band: (f64, f64)) -> Option<String> {
+    let e = &fit.enforcement;
+    if !e.passive {
+        return Some(format!(
+            "no passive residues after {} rounds ({} constraint frequencies, {} iterations)",
+            e.rounds, e.samples, e.iterations
+        ));
+    }
+    let (lo, hi) = band;
+    fit.poles
+        .iter()
+        .map(|p| p.norm() * omega_ref)
+        .find(|&m| m < lo / POLE_RANGE || m > hi * POLE_RANGE)
+        .map(|m| {
+            format!(
+                "a pole at {m:.3e} rad/s lies outside the band ({lo:.3e}, {hi:.3e}) rad/s by more \
+                 than a factor {POLE_RANGE}"
+            )
+        })
 }
 
 /// Residues whose column spaces overlap less than this (relative) act on orthogonal motions.
@@ -127,7 +127,7 @@ fn independent_parts(fit: &RationalFit) -> Vec<RationalFit> {
 }
 
 /// What the rational path found: the order and network chosen, vector fitting iterations,
-/// and notes (orders that failed and why, the order chosen when none met the tolerance).
+/// and notes (orders that failed and why, the orders chosen when none met the tolerance).
 pub(super) struct RationalOutcome {
     pub order: usize,
     pub network: Network,
@@ -135,11 +135,22 @@ pub(super) struct RationalOutcome {
     pub notes: Vec<String>,
 }
 
-/// Fits the coupled form by the rational path (module docs). Orders are tried upwards; the
-/// first one whose network meets the tolerance is returned. A network is never replaced by a
-/// worse one: if no order meets the tolerance, the one with the smallest error is returned.
-/// Orders above the data's resolution (at least one point more than twice the poles per
-/// block, per entry) are not tried.
+/// One block's order search: its current order, its best fit so far and that fit's order.
+struct Search {
+    next_order: usize,
+    best: Option<(usize, BlockFit)>,
+}
+
+/// Rounds of tightening the blocks' tolerances when their errors add up past the tolerance.
+const TIGHTENING_ROUNDS: usize = 4;
+
+/// Fits the coupled form by the rational path (module docs). Every invariant block searches
+/// its own order upwards, from 1, until its fit meets the block's tolerance; a block's fit is
+/// never replaced by a worse one (if no order meets it, the smallest error is kept). Blocks
+/// start with the whole tolerance; while the joined network misses it, every block's tolerance
+/// is scaled by `0.95 tol / error` and the blocks that miss theirs continue their search
+/// (at most 4 rounds). Orders are at most `max_order` and fewer than the band's points; a
+/// fixed `order` applies to every block.
 pub(super) fn fit_rational(
     problem: &Problem,
     data: &FrequencyResponse,
@@ -151,57 +162,135 @@ pub(super) fn fit_rational(
     data.added_mass_inf = problem.added_mass_inf.clone();
     let band = (problem.omega[0], problem.omega[problem.omega.len() - 1]);
     let points = problem.omega.len();
-    let orders: Vec<usize> = match params.order {
-        Some(k) => vec![k],
-        None => (1..=params.max_order.min(points.saturating_sub(1)).max(1)).collect(),
+    let base = VectorFitParams {
+        band,
+        passivity_margin: PASSIVITY_MARGIN * tolerance,
+        block_coupling: BLOCK_COUPLING * tolerance,
+        ..VectorFitParams::default()
     };
-    let mut best: Option<(f64, usize, Network)> = None;
+    let blocks = Blocks::new(&data, &base)?;
+    let (first, last) = match params.order {
+        Some(k) => (k, k),
+        None => (1, params.max_order.min(points.saturating_sub(1)).max(1)),
+    };
+    let mut searches: Vec<Search> = (0..blocks.len())
+        .map(|_| Search {
+            next_order: first,
+            best: None,
+        })
+        .collect();
     let mut iterations = 0;
     let mut failures: Vec<String> = Vec::new();
-    let mut tried = Vec::new();
-    for k in orders {
-        for (pairs, real) in layouts(k) {
-            let vf = VectorFitParams {
-                complex_pairs: pairs,
-                real_poles: real,
-                band,
-                passivity_margin: PASSIVITY_MARGIN * tolerance,
-                block_coupling: BLOCK_COUPLING * tolerance,
-                ..VectorFitParams::default()
-            };
-            iterations += vf.iterations;
-            match candidate(problem, &data, &vf) {
-                Ok((error, network, _)) => {
-                    tried.push(format!("order {k}: {:.3} %", 100.0 * error));
-                    if !matches!(&best, Some((e, _, _)) if *e <= error) {
-                        best = Some((error, k, network));
+    let mut block_tolerance = tolerance;
+    let mut best: Option<(f64, usize, Network)> = None;
+    let mut last_failure = String::new();
+    for round in 0..=TIGHTENING_ROUNDS {
+        for (b, search) in searches.iter_mut().enumerate() {
+            while search.next_order <= last
+                && !matches!(&search.best, Some((_, f)) if f.error <= block_tolerance)
+            {
+                let k = search.next_order;
+                search.next_order += 1;
+                for (pairs, real) in layouts(k) {
+                    let vf = VectorFitParams {
+                        complex_pairs: pairs,
+                        real_poles: real,
+                        ..base.clone()
+                    };
+                    iterations += vf.iterations;
+                    let fit = blocks.fit(b, &vf);
+                    if let Some(why) = refusal(&fit, blocks.omega_ref(), band) {
+                        failures.push(format!(
+                            "block {} ({} DOF directions), order {k} ({pairs} pairs, {real} \
+                             real): {why}",
+                            b + 1,
+                            blocks.dimension(b)
+                        ));
+                        continue;
+                    }
+                    if !matches!(&search.best, Some((_, f)) if f.error <= fit.error) {
+                        search.best = Some((k, fit));
                     }
                 }
-                Err(why) => failures.push(format!("order {k} ({pairs} pairs, {real} real): {why}")),
             }
         }
-        if matches!(&best, Some((e, _, _)) if *e <= tolerance) {
+        let fits: Vec<&BlockFit> = searches
+            .iter()
+            .filter_map(|s| s.best.as_ref().map(|(_, f)| f))
+            .collect();
+        if fits.len() < searches.len() {
             break;
+        }
+        let order = searches
+            .iter()
+            .filter_map(|s| s.best.as_ref().map(|(k, _)| *k))
+            .max()
+            .unwrap_or(0);
+        match network_of(problem, &blocks.assemble(&fits)) {
+            Ok((error, network)) => {
+                if !matches!(&best, Some((e, _, _)) if *e <= error) {
+                    best = Some((error, order, network));
+                }
+                if error <= tolerance {
+                    break;
+                }
+                let exhausted = searches.iter().all(|s| s.next_order > last);
+                if exhausted || round == TIGHTENING_ROUNDS {
+                    break;
+                }
+                block_tolerance *= 0.95 * tolerance / error;
+            }
+            Err(why) => {
+                last_failure = why;
+                break;
+            }
         }
     }
     let mut notes = Vec::new();
     if !failures.is_empty() {
         notes.push(format!(
-            "rational fit: {} candidate(s) failed: {}",
+            "rational fit: {} candidate(s) refused: {}",
             failures.len(),
             failures.join("; ")
         ));
     }
     let Some((error, order, network)) = best else {
-        return Err(IdentifyError::Synthesis(format!(
-            "no order gave a passive network; {}",
+        let why = if last_failure.is_empty() {
             failures.join("; ")
+        } else {
+            format!("no passive network realizes the fit: {last_failure}")
+        };
+        return Err(IdentifyError::Synthesis(format!(
+            "no order gave a passive network; {why}"
         )));
     };
+    if blocks.len() > 1 {
+        let chosen: Vec<String> = searches
+            .iter()
+            .zip(0..)
+            .filter_map(|(s, b)| {
+                s.best.as_ref().map(|(k, f)| {
+                    format!(
+                        "block {} ({} DOF directions): order {k}, {} states, {:.3} %",
+                        b + 1,
+                        blocks.dimension(b),
+                        f.states,
+                        100.0 * f.error
+                    )
+                })
+            })
+            .collect();
+        notes.push(format!(
+            "rational fit: {} invariant blocks, each its own order: {}",
+            blocks.len(),
+            chosen.join("; ")
+        ));
+    }
     if error > tolerance {
         notes.push(format!(
-            "rational fit: no order met the tolerance ({}); order {order} has the smallest error",
-            tried.join(", ")
+            "rational fit: no order up to {last} met the tolerance; the network kept has the \
+             smallest error found, {:.3} %",
+            100.0 * error
         ));
     }
     Ok(RationalOutcome {

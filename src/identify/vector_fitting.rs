@@ -595,106 +595,208 @@ pub fn passive_block_vector_fit(
     response: &FrequencyResponse,
     params: &VectorFitParams,
 ) -> Result<(RationalFit, Vec<Enforcement>), IdentifyError> {
-    let problem = Problem::new(response, params)?;
-    let n = problem.n;
-    let target: Vec<DMatrix<Complex64>> = (0..problem.s.len())
-        .map(|k| {
-            let mut t = DMatrix::zeros(n, n);
-            for (e, &(i, j)) in problem.pairs.iter().enumerate() {
-                t[(i, j)] = problem.entries[e][k];
-                t[(j, i)] = problem.entries[e][k];
-            }
-            t
-        })
-        .collect();
-    // The subspace the data spans (Gram matrix of the real and imaginary parts).
-    let mut gram = DMatrix::<f64>::zeros(n, n);
-    for t in &target {
-        let (re, im) = (t.map(|z| z.re), t.map(|z| z.im));
-        gram += &re * re.transpose() + &im * im.transpose();
-    }
-    let eigen = crate::numerics::symmetric_eigen(&gram);
-    let largest = eigen.eigenvalues.max();
-    let kept: Vec<usize> = (0..n)
-        .filter(|&i| eigen.eigenvalues[i] > 1e-12 * largest)
-        .collect();
-    let span = DMatrix::from_fn(n, kept.len(), |i, c| eigen.eigenvectors[(i, kept[c])]);
-    let reduced: Vec<DMatrix<Complex64>> = target
-        .iter()
-        .map(|t| {
-            let q = span.map(|x| Complex64::new(x, 0.0));
-            q.transpose() * t * &q
-        })
-        .collect();
-    let mut poles_all: Poles = Vec::new();
-    let mut residues_all: Vec<DMatrix<Complex64>> = Vec::new();
-    let mut enforcements = Vec::new();
-    for block in noisy_invariant_blocks(&reduced, &span, params.block_coupling) {
-        let basis = &span * block; // n x d, orthonormal
-        let d = basis.ncols();
-        let q = basis.map(|x| Complex64::new(x, 0.0));
-        let block_target: Vec<DMatrix<Complex64>> =
-            target.iter().map(|t| q.transpose() * t * &q).collect();
-        let pairs: Vec<(usize, usize)> = (0..d).flat_map(|i| (i..d).map(move |j| (i, j))).collect();
-        let entries = pairs
-            .iter()
-            .map(|&(i, j)| {
-                DVector::from_iterator(block_target.len(), block_target.iter().map(|t| t[(i, j)]))
-            })
-            .collect();
-        let sub = Problem {
-            n: d,
-            s: problem.s.clone(),
-            pairs,
-            entries,
-            scales: DVector::from_element(d, 1.0),
-            omega_ref: 1.0,
-        };
-        // A block whose data is within the budget everywhere is left out (no states).
-        let largest = sub
-            .entries
-            .iter()
-            .flat_map(|e| e.iter().map(|z| z.norm()))
-            .fold(0.0, f64::max);
-        if largest <= params.block_coupling {
-            continue;
-        }
-        let (poles, x, enforcement) = enforce(&sub, params);
-        enforcements.push(enforcement);
-        // Normalized block model, mapped back: R = B r B^T.
-        let model = sub.model(&poles, &x, 0.0, true);
-        for (p, r) in model.poles.iter().zip(&model.residues) {
-            poles_all.push(*p);
-            residues_all.push(&q * r * q.transpose());
-        }
-    }
-    // The full model in normalized units, its error, then SI.
-    let normalized = RationalFit {
-        poles: poles_all.clone(),
-        residues: residues_all.clone(),
-        dof_scales: DVector::from_element(n, 1.0),
-        max_error: 0.0,
-    };
-    let mut max_error: f64 = 0.0;
-    for (k, t) in target.iter().enumerate() {
-        let g = normalized.evaluate(problem.s[k].im);
-        max_error = max_error.max((g - t).iter().map(|z| z.norm()).fold(0.0, f64::max));
-    }
-    let scales = problem.scales.clone();
-    let si = |r: &DMatrix<Complex64>| {
-        DMatrix::from_fn(n, n, |i, j| {
-            r[(i, j)] * (scales[i] * scales[j]).sqrt() * problem.omega_ref
-        })
-    };
+    let blocks = Blocks::new(response, params)?;
+    let fits: Vec<BlockFit> = (0..blocks.len()).map(|b| blocks.fit(b, params)).collect();
+    let enforcements = fits.iter().map(|f| f.enforcement.clone()).collect();
     Ok((
-        RationalFit {
-            poles: poles_all.iter().map(|p| p * problem.omega_ref).collect(),
-            residues: residues_all.iter().map(si).collect(),
-            dof_scales: problem.scales.clone(),
-            max_error,
-        },
+        blocks.assemble(&fits.iter().collect::<Vec<_>>()),
         enforcements,
     ))
+}
+
+/// The normalized data of a fit split into its invariant blocks (see
+/// [`passive_block_vector_fit`]); each block can be fitted on its own, with its own poles.
+pub struct Blocks {
+    problem: Problem,
+    target: Vec<DMatrix<Complex64>>,
+    blocks: Vec<(Problem, DMatrix<Complex64>)>,
+}
+
+/// The passive fit of one block ([`Blocks::fit`]), in normalized units, mapped to all DOFs.
+#[derive(Clone, Debug)]
+pub struct BlockFit {
+    /// The block's poles in units of [`Blocks::omega_ref`].
+    pub poles: Poles,
+    residues: Vec<DMatrix<Complex64>>,
+    /// How the block's fit was made passive.
+    pub enforcement: Enforcement,
+    /// The block's own largest error (normalized, in the original DOFs).
+    pub error: f64,
+    /// States of the block's realization (the block's dimension per pole).
+    pub states: usize,
+}
+
+impl Blocks {
+    /// The data of `response` in the band of `params`, reduced to the subspace it spans and
+    /// split into invariant blocks (couplings of at most `params.block_coupling` dropped);
+    /// blocks whose data stays within that budget everywhere are left out.
+    pub fn new(
+        response: &FrequencyResponse,
+        params: &VectorFitParams,
+    ) -> Result<Blocks, IdentifyError> {
+        let problem = Problem::new(response, params)?;
+        let n = problem.n;
+        let target: Vec<DMatrix<Complex64>> = (0..problem.s.len())
+            .map(|k| {
+                let mut t = DMatrix::zeros(n, n);
+                for (e, &(i, j)) in problem.pairs.iter().enumerate() {
+                    t[(i, j)] = problem.entries[e][k];
+                    t[(j, i)] = problem.entries[e][k];
+                }
+                t
+            })
+            .collect();
+        // The subspace the data spans (Gram matrix of the real and imaginary parts).
+        let mut gram = DMatrix::<f64>::zeros(n, n);
+        for t in &target {
+            let (re, im) = (t.map(|z| z.re), t.map(|z| z.im));
+            gram += &re * re.transpose() + &im * im.transpose();
+        }
+        let eigen = crate::numerics::symmetric_eigen(&gram);
+        let largest = eigen.eigenvalues.max();
+        let kept: Vec<usize> = (0..n)
+            .filter(|&i| eigen.eigenvalues[i] > 1e-12 * largest)
+            .collect();
+        let span = DMatrix::from_fn(n, kept.len(), |i, c| eigen.eigenvectors[(i, kept[c])]);
+        let reduced: Vec<DMatrix<Complex64>> = target
+            .iter()
+            .map(|t| {
+                let q = span.map(|x| Complex64::new(x, 0.0));
+                q.transpose() * t * &q
+            })
+            .collect();
+        let mut blocks = Vec::new();
+        for block in noisy_invariant_blocks(&reduced, &span, params.block_coupling) {
+            let basis = &span * block; // n x d, orthonormal
+            let d = basis.ncols();
+            let q = basis.map(|x| Complex64::new(x, 0.0));
+            let block_target: Vec<DMatrix<Complex64>> =
+                target.iter().map(|t| q.transpose() * t * &q).collect();
+            let pairs: Vec<(usize, usize)> =
+                (0..d).flat_map(|i| (i..d).map(move |j| (i, j))).collect();
+            let entries: Vec<DVector<Complex64>> = pairs
+                .iter()
+                .map(|&(i, j)| {
+                    DVector::from_iterator(
+                        block_target.len(),
+                        block_target.iter().map(|t| t[(i, j)]),
+                    )
+                })
+                .collect();
+            let largest = entries
+                .iter()
+                .flat_map(|e| e.iter().map(|z| z.norm()))
+                .fold(0.0, f64::max);
+            if largest <= params.block_coupling {
+                continue;
+            }
+            let sub = Problem {
+                n: d,
+                s: problem.s.clone(),
+                pairs,
+                entries,
+                scales: DVector::from_element(d, 1.0),
+                omega_ref: 1.0,
+            };
+            blocks.push((sub, q));
+        }
+        Ok(Blocks {
+            problem,
+            target,
+            blocks,
+        })
+    }
+
+    /// The frequency unit of the normalized poles (rad/s).
+    pub fn omega_ref(&self) -> f64 {
+        self.problem.omega_ref
+    }
+
+    /// The number of blocks fitted.
+    pub fn len(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Whether no block carries data above the budget.
+    pub fn is_empty(&self) -> bool {
+        self.blocks.is_empty()
+    }
+
+    /// The dimension of block `b`.
+    pub fn dimension(&self, b: usize) -> usize {
+        self.blocks[b].0.n
+    }
+
+    /// The passive fit of block `b` with the poles of `params` (its band and margin are the
+    /// ones [`Blocks::new`] was made with).
+    pub fn fit(&self, b: usize, params: &VectorFitParams) -> BlockFit {
+        let (sub, q) = &self.blocks[b];
+        let (poles, x, enforcement) = enforce(sub, params);
+        let model = sub.model(&poles, &x, 0.0, true);
+        let residues: Vec<DMatrix<Complex64>> = model
+            .residues
+            .iter()
+            .map(|r| q * r * q.transpose())
+            .collect();
+        // The block's own error in the original DOFs: Q (model - data) Q^T.
+        let mut error: f64 = 0.0;
+        for k in 0..sub.s.len() {
+            let mut data = DMatrix::zeros(sub.n, sub.n);
+            for (e, &(i, j)) in sub.pairs.iter().enumerate() {
+                data[(i, j)] = sub.entries[e][k];
+                data[(j, i)] = sub.entries[e][k];
+            }
+            let g = model.evaluate(sub.s[k].im) - data;
+            error = error.max(
+                (q * g * q.transpose())
+                    .iter()
+                    .map(|z| z.norm())
+                    .fold(0.0, f64::max),
+            );
+        }
+        let states = model.pole_count() * sub.n;
+        BlockFit {
+            poles: model.poles,
+            residues,
+            enforcement,
+            error,
+            states,
+        }
+    }
+
+    /// The sum of the blocks' fits (SI), its `max_error` against all of the data.
+    pub fn assemble(&self, fits: &[&BlockFit]) -> RationalFit {
+        let problem = &self.problem;
+        let n = problem.n;
+        let poles: Poles = fits.iter().flat_map(|f| f.poles.iter().copied()).collect();
+        let residues: Vec<DMatrix<Complex64>> = fits
+            .iter()
+            .flat_map(|f| f.residues.iter().cloned())
+            .collect();
+        let normalized = RationalFit {
+            poles: poles.clone(),
+            residues: residues.clone(),
+            dof_scales: DVector::from_element(n, 1.0),
+            max_error: 0.0,
+        };
+        let mut max_error: f64 = 0.0;
+        for (k, t) in self.target.iter().enumerate() {
+            let g = normalized.evaluate(problem.s[k].im);
+            max_error = max_error.max((g - t).iter().map(|z| z.norm()).fold(0.0, f64::max));
+        }
+        let scales = problem.scales.clone();
+        let si = |r: &DMatrix<Complex64>| {
+            DMatrix::from_fn(n, n, |i, j| {
+                r[(i, j)] * (scales[i] * scales[j]).sqrt() * problem.omega_ref
+            })
+        };
+        RationalFit {
+            poles: poles.iter().map(|p| p * problem.omega_ref).collect(),
+            residues: residues.iter().map(si).collect(),
+            dof_scales: problem.scales.clone(),
+            max_error,
+        }
+    }
 }
 
 /// The invariant blocks of the reduced target ([`crate::identify`], module docs) of noisy

@@ -108,7 +108,11 @@ fn report_states_the_error_out_of_band_and_the_left_out_dofs() {
     assert_eq!(fit.network.form, NetworkForm::SeriesChain);
     // The small scene's 5 band points: the one note says what the network assumes between them.
     assert_eq!(fit.notes.len(), 1, "{:?}", fit.notes);
-    assert!(fit.notes[0].starts_with("only 5 frequencies"), "{:?}", fit.notes);
+    assert!(
+        fit.notes[0].starts_with("only 5 frequencies"),
+        "{:?}",
+        fit.notes
+    );
     let report = built.report(&response, &fit);
 
     assert_eq!(report.dofs, ["sway"]);
