@@ -313,6 +313,12 @@ pub fn json_report(
         })
         .collect();
     let dofs: Vec<String> = names.iter().map(|n| json_string(n)).collect();
+    // The exact check (hydrofmu::passivity) of the network as the FMU will step it.
+    let passive = fit
+        .network
+        .state_space()
+        .map(|ss| hydrofmu::passivity::check(&ss, 1e-9).passive)
+        .unwrap_or(false);
     let notes: Vec<String> = fit
         .notes
         .iter()
@@ -323,7 +329,7 @@ pub fn json_report(
         "{{\"dofs\":[{}],\"form\":\"{}\",\"order\":{},\"aux_dofs\":{},\"band_rad_per_s\":[{},{}],\
          \"points\":{},\"tolerance\":{},\"tolerance_met\":{},\"max_relative_error\":{},\
          \"max_error\":{},\"rms_error\":{},\"error_scale\":{},\"added_mass_inf\":{},\
-         \"rho\":{},\"g\":{},\"branches\":[{}],\"substructures\":[{}],\"states\":{},\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{},\"notes\":[{}]}}",
+         \"rho\":{},\"g\":{},\"branches\":[{}],\"substructures\":[{}],\"states\":{},\"sweep_seconds\":{},\"fit_seconds\":{},\"iterations\":{},\"passive\":{},\"notes\":[{}]}}",
         dofs.join(","),
         fit.network.form,
         fit.order,
@@ -346,6 +352,7 @@ pub fn json_report(
         number(sweep_seconds),
         number(fit_seconds),
         fit.iterations,
+        passive,
         notes.join(",")
     )
 }

@@ -102,21 +102,33 @@
 //!   coupling); a DOF that moves no water (its roll) lies outside the reduced subspace and
 //!   gets no branch.
 //! * Rational path (coupled, [`CoupledMethod::Rational`], the default): passive vector
-//!   fitting of every invariant block ([`vector_fitting`]), with poles kept within a factor
-//!   30 of the band, each part of the fit that acts on its own motions (each block) realized
-//!   as a mechanical substructure ([`synthesis`]); the order is the
-//!   number of poles per block, the smallest that meets the tolerance wins. On the
-//!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.75 %, where the chains need 56.
-//!   For one DOF (automatic form) it then competes with the series chain and the parallel
-//!   bank: the fewest states within the tolerance win.
+//!   fitting of every invariant block ([`vector_fitting`]; blocks of noisy data, e.g. a
+//!   symmetric hull on an asymmetric mesh, drop couplings of at most a tenth of the
+//!   tolerance), the passivity enforced by the whole matrix inequality at sampled frequencies
+//!   with a margin of 2 % of the tolerance, poles kept within a factor 30 of the band; each
+//!   part of the fit that acts on its own motions realized as a mechanical substructure
+//!   ([`synthesis`]). Every block searches its own order (poles per block), the smallest that
+//!   meets the block's tolerance, and keeps its best fit; while the joined network misses the
+//!   tolerance the blocks' tolerances are tightened (module docs of `rational`). On the
+//!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.76 %, where the chains need 56; the
+//!   midship section's 6 DOFs: 28 states at 0.89 % (docs/IDENTIFICATION.md). For one DOF
+//!   (automatic form) it then competes with the series chain and the parallel bank: the
+//!   fewest states within the tolerance win. The chains are the fallback when no order gives
+//!   a passive network (said in the notes).
 //! * Pruning (coupled): the branches are tried for removal in order of their largest
 //!   normalized contribution `max_band |G_b(i omega)| max_i d_i^2 / s_i`; a branch goes if the
 //!   network without it still meets the tolerance (if the tolerance is not met: if the error
 //!   does not grow). The reported order is the number of distinct chain dynamics left.
 //!
-//! Automatic order: orders 1, 2, ... `max_order`; the first one whose largest normalized error
-//! is within the tolerance is returned. If none is, the fit with the smallest error is
-//! returned with `tolerance_met = false`.
+//! Automatic order: orders 1, 2, ... `max_order` (the rational path: per block, and below the
+//! band's point count); the first one whose largest normalized error is within the tolerance
+//! is returned. If none is, the fit with the smallest error seen is returned with
+//! `tolerance_met = false`, never a worse one; the notes name the orders that failed and why.
+//!
+//! Noise floor: [`FitParams::noise`] (an imported database's reciprocity gap) over
+//! `sqrt(s_i s_j)`; where it exceeds the tolerance the fit aims at it instead, and says so.
+//! Few frequencies (fewer than 16 in the band): a note says what the network assumes between
+//! them.
 //!
 //! Automatic form (`FitParams::form = None`): several DOFs get the coupled form. One DOF gets
 //! the series chain and, with the rational path, a one-DOF coupled fit; if the chain misses

@@ -31,14 +31,15 @@
 //! a realization of it is. [`passive_vector_fit`] solves the residues again under the matrix
 //! inequalities that make it passive at sampled frequencies (poles fixed, convex), until the
 //! exact check passes.
-//! Measured on the semicircle (tests/identification.rs): sway 5 poles 0.0081 % free, 0.094 %
-//! passive; heave over kR 0.01 .. 4.5 with 6 poles 0.032 % free, 0.033 % passive. For many
-//! coupled DOFs the cuts converge slowly (the full 9 x 9 in one piece is not passive after 30
-//! rounds); [`passive_block_vector_fit`] fits the invariant blocks one by one instead: the
-//! semicircle's 9 x 9 with 2 pairs and 1 real pole per block, 0.76 % with 25 states, passive
-//! (kR 0.05 .. 4.5); over kR 0.01 .. 4.5 with 2 pairs and 2 real poles, 0.46 % with 30 states.
-//! A passive rational model is not yet a network: its realization as one (and the use by
-//! `fit`) is the next step.
+//! The inequality is enforced as a whole (every eigenvalue, not one direction per violation):
+//! the damping of a 2D section has rank 2, so the data lies on the boundary of passivity at
+//! every frequency, and one-direction cuts chase a turning null space without end (the midship
+//! section's 6 x 6 was not passive after 30 rounds of them at any order above 1; now every
+//! order is, in 1 to 3 rounds). [`passive_block_vector_fit`] fits the invariant blocks one by
+//! one ([`Blocks`]): the semicircle's 9 x 9 with 2 pairs and 1 real pole per block, 0.76 %
+//! with 25 states, passive (kR 0.05 .. 4.5); over kR 0.01 .. 4.5 with 2 pairs and 2 real
+//! poles, 0.46 % with 30 states. `fit` realizes such a fit as a network
+//! ([`super::synthesis`]).
 
 use super::{dof_scales, FrequencyResponse, IdentifyError};
 use nalgebra::{DMatrix, DVector};
@@ -568,9 +569,11 @@ const MAX_ROUNDS: usize = 6;
 /// `K(s) = s G(s)` the impedance (normalized units, `b_lo` the band's bottom, `mu` =
 /// [`VectorFitParams::passivity_margin`]), at every frequency of a log grid (16 per decade
 /// from 1e-3 of the band's bottom to 1e3 times its top), the band's points, the poles'
-/// frequencies and `omega -> inf`; solved by ADMM ([`crate::numerics`]). Each round runs the
-/// exact check ([`crate::passivity`]); if it fails, its crossings and the midpoints between
-/// them join the samples and the solve continues from where it stopped, at most 6 rounds.
+/// frequencies and `omega -> inf`; solved by ADMM (`src/numerics/lmi_least_squares.rs`), then
+/// made feasible at every sample by the smallest step along residues that raise `Re K` at
+/// every frequency. Each round runs the exact check ([`crate::passivity`]); if it fails, a
+/// fine grid over every interval between its crossings where `Re K` is indefinite joins the
+/// samples and the solve continues from where it stopped, at most 6 rounds.
 /// The margin's damping changes `A~` by at most `mu sqrt(s_i s_j)` anywhere: it lets the
 /// model keep the data's zero damping directions (a 2D section radiates two waves, so its
 /// damping matrix has rank 2) without crossing into negative damping.
