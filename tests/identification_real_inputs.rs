@@ -133,8 +133,8 @@ fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
 
 /// A noisy database: the hemisphere with `A~_15` and `A~_51` (surge-pitch) moved apart by 6 %
 /// of `sqrt(s_1 s_5)`, in alternating directions from one frequency to the next (the mean, the
-/// data fitted, unchanged). The import records the gap, and the fit aims at that 3 % noise
-/// floor instead of the 1 % tolerance, with a note naming the entry.
+/// data fitted, unchanged). The import records the gap; the fit still aims at the 1 %
+/// tolerance but is judged against the 3 % noise floor, with a note naming the entry.
 #[test]
 fn noise_above_the_tolerance_sets_the_floor_with_a_note() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/wamit/sphere.1");
@@ -206,8 +206,6 @@ fn noise_above_the_tolerance_sets_the_floor_with_a_note() {
         .expect("a noise note");
     assert!(note.contains("surge-pitch"), "{note}");
     assert!(fit.tolerance_met, "{}", fit.max_relative_error);
-    // The floor stops the order search earlier than the clean data's 1 % (17 states):
-    // measured 2.49 % with 11 states.
-    assert!(fit.max_relative_error > 0.01, "{}", fit.max_relative_error);
-    assert!(fit.states < 17, "{}", fit.states);
+    // The search still aims at 1 %: the mean is the clean data, fitted as well (0.998 %).
+    assert!(fit.max_relative_error <= 0.01, "{}", fit.max_relative_error);
 }

@@ -11,8 +11,12 @@ The database: examples/databases/capytaine_box_barge.py (Capytaine 3.0, coarse m
 box 40 m x 10 m x 3 m, 6 DOFs about the origin on the free surface, omega 0.2 .. 2.5 rad/s step
 0.1, headings 0/90/180 deg) writes box.1/.3/.hst and box.json into examples/cosim/fmus/box_barge/
 on first use (`--database DIR` takes another folder that holds them); the FMU
-examples/cosim/fmus/BoxBarge.fmu is packed on first use with `fmu-pack pack DIR/box.1` (the
-defaults: 1 % fit tolerance, the whole band).
+examples/cosim/fmus/BoxBarge.fmu is packed on first use with `fmu-pack pack DIR/box.1 --tol
+0.004` (PACK_TOLERANCE, the whole band). The RAO at a lightly damped resonance is set by the
+damping there and amplifies the fit's error: with the default 1 % tolerance (54 states, 0.95 %)
+the network's beam-sea heave RAO is 3.1e-2 of its largest off Capytaine's; 0.4 % asks each
+invariant block for more poles (66 states, 0.68 %, the coarse mesh's noise floor 0.76 %) and
+brings it to 9.9e-3.
 
 The body (coordinates p = the FMU's surge .. yaw, T = I; moments about the origin):
 
@@ -68,6 +72,8 @@ import numpy as np
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import hydrocosim as hc  # noqa: E402
 
+# The fit tolerance of the example's FMU (module docs: the RAO at resonance needs 0.4 %).
+PACK_TOLERANCE = "0.004"
 DATABASE_SCRIPT = hc.ROOT / "examples" / "databases" / "capytaine_box_barge.py"
 DATABASE_DIR = hc.FMU_DIR / "box_barge"
 FMU_NAME = "BoxBarge"
@@ -181,7 +187,7 @@ def run(quick: bool = False, database=None, fmu=None, plot: bool = True, step: f
     started = time.perf_counter()
     folder = ensure_database(database)
     data = capytaine(folder)
-    fmu = hc.ensure_fmu(FMU_NAME, [str(folder / "box.1")], fmu)
+    fmu = hc.ensure_fmu(FMU_NAME, [str(folder / "box.1"), "--tol", PACK_TOLERANCE], fmu)
     probe = hc.FmpyHull(fmu, rho=data["rho"], g=data["g"])
     added_mass_inf, damping_direct = probe.matrix("added_mass_inf"), probe.matrix("damping_direct")
     hydrostatic = probe.matrix("stiffness_hydrostatic")

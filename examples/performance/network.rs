@@ -317,7 +317,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
              whose time constants no step resolves, or a pole far outside the band. The fitter \
              refuses such networks; the automatic order (the smallest that meets the tolerance) \
              stops before that. A forced rational order can also end without passive residues \
-             (the enforcement's 30 rounds of cuts run out); the fit then falls back to the \
+             (the exact check still fails after the enforcement's 6 rounds); the fit then falls back to the \
              chains. Refused here:\n"
         );
         for d in &degenerate {
@@ -610,5 +610,10 @@ fn peers(doc: &mut String, all: &FrequencyResponse, sway: &FrequencyResponse) {
     for (case, chains, rational, peer) in rows {
         let _ = writeln!(doc, "| {case} | {chains} | {rational} | {peer} |");
     }
-    let _ = writeln!(doc);
+    let _ = writeln!(
+        doc,
+        "\nOn inputs nobody tuned the fit to (ship sections, imported databases, 7 frequencies, \
+         a noisy coarse mesh): states, error and fit time in docs/IDENTIFICATION.md \
+         (`cargo run --release -p fmu-pack --example identification`).\n"
+    );
 }

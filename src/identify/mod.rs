@@ -126,7 +126,8 @@
 //! `tolerance_met = false`, never a worse one; the notes name the orders that failed and why.
 //!
 //! Noise floor: [`FitParams::noise`] (an imported database's reciprocity gap) over
-//! `sqrt(s_i s_j)`; where it exceeds the tolerance the fit aims at it instead, and says so.
+//! `sqrt(s_i s_j)`; where it exceeds the tolerance the fit still aims at the tolerance, is
+//! judged against the floor (`FitReport::tolerance`), and says so.
 //! Few frequencies (fewer than 16 in the band): a note says what the network assumes between
 //! them.
 //!
@@ -296,12 +297,14 @@ fn fit_form(
     }
     let problem = Problem::new(data, params.band)?;
     let mut notes = Vec::new();
-    let tolerance = match noise_floor(&problem, params.noise.as_ref())? {
+    // The search aims at the tolerance; the verdict takes the data's noise floor when larger.
+    let verdict = match noise_floor(&problem, params.noise.as_ref())? {
         Some((floor, i, j)) if floor > tolerance => {
             notes.push(format!(
                 "the data's own noise (reciprocity gap |A~_ij - A~_ji| / 2) reaches {:.3} % of \
-                 sqrt(|A_ii A_jj|) at {}-{}, above the tolerance {:.3} %: fitted to that noise \
-                 floor instead (a finer mesh of the source gives cleaner data)",
+                 sqrt(|A_ii A_jj|) at {}-{}, above the tolerance {:.3} %: the fit is judged \
+                 against that noise floor (no network can be told apart from the data more \
+                 finely; a finer mesh of the source gives cleaner data)",
                 100.0 * floor,
                 problem.dof_names[i],
                 problem.dof_names[j],
@@ -350,7 +353,7 @@ fn fit_form(
             "the fitted network is not valid ({e}); check the data"
         ))
     })?;
-    let mut report = problem.report(network, order, tolerance, iterations);
+    let mut report = problem.report(network, order, verdict, iterations);
     report.notes = notes;
     Ok(report)
 }

@@ -43,8 +43,9 @@ pub struct FitParams {
     /// The data's own noise per entry (n x n, A~ units), e.g. an imported database's
     /// reciprocity gap ([`crate::database::Database::reciprocity_gap`]); `None` (default):
     /// none known. Where its largest entry over `sqrt(s_i s_j)` (the noise floor) exceeds the
-    /// tolerance, the fit aims at the noise floor instead and says so in
-    /// [`FitReport::notes`]: no network can be told apart from the data more finely.
+    /// tolerance, the fit still aims at the tolerance but is judged against the noise floor
+    /// ([`FitReport::tolerance`], `tolerance_met`) and says so in [`FitReport::notes`]: no
+    /// network can be told apart from the data more finely.
     pub noise: Option<DMatrix<f64>>,
 }
 

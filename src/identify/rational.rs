@@ -166,7 +166,10 @@ pub(super) fn fit_rational(
     data.added_mass_inf = problem.added_mass_inf.clone();
     let band = (problem.omega[0], problem.omega[problem.omega.len() - 1]);
     let points = problem.omega.len();
+    // One real pole: the blocks need only the band's 3 points; each fit sets its own poles.
     let base = VectorFitParams {
+        complex_pairs: 0,
+        real_poles: 1,
         band,
         passivity_margin: PASSIVITY_MARGIN * tolerance,
         block_coupling: BLOCK_COUPLING * tolerance,

@@ -228,7 +228,9 @@ def test_flexible_barge_wet_bending_mode_and_head_sea_raos(barge_fmu, tmp_path, 
     assert s["dry_omega"][0] == pytest.approx(textbook, rel=1e-4)
     assert s["total_mass"] == pytest.approx(s["mass_per_length"] * s["length"], rel=1e-12)
     assert s["pitch_inertia"] == pytest.approx(s["mass_per_length"] * s["length"] ** 3 / 12, rel=1e-12)
-    assert s["mass_offdiagonal"] < 1e-12  # the elastic modes are mass-orthogonal to heave and pitch
+    # The elastic modes are mass-orthogonal to heave and pitch, to rounding of the 40-DOF beam
+    # (measured 1.03e-12 in one run, below 1e-12 in others: the BLAS summation order).
+    assert s["mass_offdiagonal"] < 2e-12
     assert result["fit_error"] <= 0.01  # the FMU's fit met its 1 % tolerance
 
     # The wet 2-node mode. Stated (docs/COSIMULATION.md): dry 5.553 rad/s, wet 4.014 rad/s by the
@@ -309,7 +311,8 @@ def box_database(fmu_pack_binary, tmp_path_factory):
     library = fmu_pack_binary.parent / "libhydrofmu.so"
     fmu = folder / f"{floating_box.FMU_NAME}.fmu"
     subprocess.run(
-        [str(fmu_pack_binary), "pack", str(folder / "box.1"), "--binary", str(library), "-o", str(fmu)],
+        [str(fmu_pack_binary), "pack", str(folder / "box.1"), "--tol", floating_box.PACK_TOLERANCE,
+         "--binary", str(library), "-o", str(fmu)],
         check=True,
         capture_output=True,
     )
@@ -343,9 +346,10 @@ def test_floating_box_raos_match_the_network_and_capytaine(box_database):
     coupling = 1.5e-3
     assert max(result["cosim_minus_network"][head].values()) < coupling
     assert max(result["transient_left"][head].values()) < 1e-6
-    # The network against Capytaine's own coefficients (the fit, 1 % of |A~| at most: measured
-    # 2.2e-3 heave, 7.2e-3 pitch at its resonance; 9.8e-3 in beam-sea heave in the full run), and
-    # the co-simulation against Capytaine: the fit's 1 % plus the coupling's allowance.
+    # The network against Capytaine's own coefficients, and the co-simulation against Capytaine
+    # (plus the coupling's allowance). The FMU is fitted to 0.4 % (PACK_TOLERANCE: a RAO at
+    # resonance amplifies the fit's error; with 1 % the pitch is 1.3e-2 off): measured 2.1e-3
+    # heave, 7.3e-3 pitch at its resonance; 9.9e-3 in beam-sea heave in the full run.
     assert max(result["network_minus_capytaine"][head].values()) < 0.01
     assert max(result["cosim_minus_capytaine"][head].values()) < 0.01 + coupling
     # The symmetric box in head seas neither sways, rolls nor yaws.

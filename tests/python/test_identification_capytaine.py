@@ -4,9 +4,9 @@ The database: a box 20 m x 5 m x 2 m (Capytaine 3.0, `mesh_parallelepiped` with 
 panels, open top, `generate_lid`), 6 rigid DOFs about the waterplane centre, omega 0.2 .. 4
 rad/s in 39 steps, `export_to_wamit` (about 30 s). Its mesh is so coarse that A~_ij and A~_ji
 differ by up to 2.1 % of sqrt(|A~_ii A~_jj|) (the import's reciprocity note): more than the
-1 % tolerance. The fit must say so, aim at that noise floor, meet it with a passive network
-(the exact check of `fit --json`), and pack without
---allow-tolerance-miss. Before: `pack` refused (order 10, 60 states, 1.8 %).
+1 % tolerance. The fit must say so, still aim at 1 %, meet the noise floor with a passive
+network (the exact check of `fit --json`), and pack without --allow-tolerance-miss. Before:
+`pack` refused (order 10, 60 states, 1.8 %).
 """
 import json
 import subprocess
@@ -55,8 +55,8 @@ def test_the_fit_says_the_noise_floor_and_meets_it(fmu_pack_binary, coarse_box):
     # import's note says 2.09 % of the local sqrt(|A~_ii A~_jj|) at 3.9 rad/s).
     assert 0.012 < fit["tolerance"] < 0.015, fit["tolerance"]
     assert fit["tolerance_met"], fit["max_relative_error"]
-    # Measured 1.126 % with 52 states (four invariant blocks, each its own order).
-    assert fit["max_relative_error"] <= fit["tolerance"]
+    # Measured 1.061 % with 58 states (four invariant blocks, each its own order).
+    assert 0.01 < fit["max_relative_error"] <= fit["tolerance"]
     assert fit["states"] <= 60, fit["states"]
     assert fit["passive"] is True
     # The import's own notes travel with the fit's.
@@ -70,4 +70,4 @@ def test_the_box_packs_into_a_passive_fmu(fmu_pack_binary, coarse_box, tmp_path)
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stdout + r.stderr
     assert archive.is_file()
-    assert "noise floor" in r.stdout, r.stdout
+    assert "judged against that noise floor" in r.stdout, r.stdout
