@@ -1,7 +1,9 @@
 //! Benchmarks of the identification on the panel method's own semicircle data (the issue's
 //! cases): sway alone (the automatic form, where the series chain and the rational fit compete,
 //! and the rational fit at 5 states), the full 9x9 coupled network (default: the rational path)
-//! in the default band kR 0.05 .. 5 and the wide band kR 0.01 .. 5, and the branch chains.
+//! in the default band kR 0.05 .. 5 and the wide band kR 0.01 .. 5, and the branch chains; and
+//! the default fit of the midship section (examples/hulls/midship.xml, the scene's defaults),
+//! an input the identification was not tuned to (docs/IDENTIFICATION.md).
 //!
 //! ```sh
 //! cargo bench --bench fit
@@ -68,6 +70,16 @@ fn fits(c: &mut Criterion) {
     };
     group.bench_function("fit 9x9, branch chains, kR 0.05..5", |b| {
         b.iter(|| identify::fit(black_box(&data), &chains).expect("fit"))
+    });
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hulls/midship.xml");
+    let built = hydrofmu::scene::Scene::new(Hull::from_file(&path).expect("hull"))
+        .build()
+        .expect("scene");
+    let midship = built
+        .response(&built.sweep(&|_, _| {}).expect("sweep"))
+        .expect("response");
+    group.bench_function("fit midship 6 DOFs, default, kR 0.05..5", |b| {
+        b.iter(|| built.fit(black_box(&midship)).expect("fit"))
     });
     group.finish();
 }
