@@ -110,8 +110,8 @@
 //!   ([`synthesis`]). Every block searches its own order (poles per block), the smallest that
 //!   meets the block's tolerance, and keeps its best fit; while the joined network misses the
 //!   tolerance the blocks' tolerances are tightened (module docs of `rational`). On the
-//!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.76 %, where the chains need 56; the
-//!   midship section's 6 DOFs: 28 states at 0.89 % (docs/IDENTIFICATION.md). For one DOF
+//!   semicircle's 9 DOFs (kR 0.05 .. 4.5): 25 states at 0.75 %, where the chains need 56; the
+//!   midship section's 6 DOFs: 28 states at 0.90 % (docs/IDENTIFICATION.md). For one DOF
 //!   (automatic form) it then competes with the series chain and the parallel bank: the
 //!   fewest states within the tolerance win. The chains are the fallback when no order gives
 //!   a passive network (said in the notes).

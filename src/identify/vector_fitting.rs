@@ -869,7 +869,7 @@ fn noisy_invariant_blocks(
 const SAMPLES_PER_DECADE: f64 = 16.0;
 
 /// ADMM iterations per enforcement round, and its relative stopping tolerance.
-const ADMM_ITERATIONS: usize = 500;
+const ADMM_ITERATIONS: usize = 100;
 const ADMM_TOLERANCE: f64 = 1e-6;
 
 /// The poles and the passive residues of a normalized problem (see [`passive_vector_fit`]).
