@@ -944,7 +944,8 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
             .collect()
     };
     let (from, to) = (b_lo * 1e-3, b_hi * 1e3);
-    let count = ((to / from).log10() * SAMPLES_PER_DECADE).ceil() as usize;
+    // At most 24 decades' worth of samples, however wide the band (a bound, not a hang).
+    let count = ((to / from).log10().min(24.0) * SAMPLES_PER_DECADE).ceil() as usize;
     let mut frequencies: Vec<f64> = (0..=count)
         .map(|k| from * (to / from).powf(k as f64 / count as f64))
         .collect();
