@@ -45,7 +45,10 @@ fn network_of(problem: &Problem, fit: &RationalFit) -> Result<(f64, Network), St
         .iter()
         .map(|part| synthesize(part).map(|(sub, _)| sub))
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| match e {
+            IdentifyError::Synthesis(why) => format!("the synthesis failed: {why}"),
+            other => other.to_string(),
+        })?;
     let network = Network::from_substructures(
         problem.dof_names.clone(),
         problem.added_mass_inf.clone(),
@@ -265,7 +268,7 @@ pub(super) fn fit_rational(
         let why = if last_failure.is_empty() {
             failures.join("; ")
         } else {
-            format!("no passive network realizes the fit: {last_failure}")
+            last_failure
         };
         return Err(IdentifyError::Synthesis(format!(
             "no order gave a passive network; {why}"
