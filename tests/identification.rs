@@ -10,6 +10,8 @@ use hydrofmu::units;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
+mod common;
+
 const RHO: f64 = 1025.0;
 const G: f64 = 9.81;
 
@@ -402,7 +404,6 @@ fn passive_block_vector_fitting_covers_the_wide_band() {
 /// force is below 1e-3 of its peak.
 #[test]
 fn rational_fit_of_the_nine_dofs_meets_the_state_target_and_forgets_a_pulse() {
-    use hydrofmu::fmu::variables::Quantity;
     use hydrofmu::identify::CoupledMethod;
     let params = FitParams {
         band: (omega_of(0.05) * 0.999, omega_of(4.5) * 1.001),
@@ -423,33 +424,5 @@ fn rational_fit_of_the_nine_dofs_meets_the_state_target_and_forgets_a_pulse() {
     assert_eq!(report.network.substructures.len(), 2);
     // Deterministic: a second fit is bitwise the same.
     assert_eq!(identify::fit(semicircle(), &params).unwrap(), report);
-    let check = hydrofmu::passivity::check(&report.network.state_space().unwrap(), 1e-9);
-    assert!(check.passive && check.stable, "{check:?}");
-    let n = report.network.dof_count();
-    for dof in 0..n {
-        let mut model = hydrofmu::Model::new(
-            &report.network,
-            hydrofmu::ModelOptions {
-                keep_inf_mass: false,
-                guid: None,
-            },
-        )
-        .unwrap();
-        let h = 0.05;
-        let (mut peak, mut last): (f64, f64) = (0.0, 0.0);
-        for k in 0..(301.0 / h) as usize {
-            let t = k as f64 * h;
-            let v = if t < 1.0 - 1e-9 { 1.0 } else { 0.0 };
-            model.set_value(Quantity::Velocity(dof), v).unwrap();
-            let largest = (0..n)
-                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
-                .fold(0.0, f64::max);
-            peak = peak.max(largest);
-            model.step(model.time(), h).unwrap();
-            last = (0..n)
-                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
-                .fold(0.0, f64::max);
-        }
-        assert!(last < 1e-3 * peak, "DOF {dof}: {last:e} of a peak {peak:e}");
-    }
+    common::assert_passive_and_forgets_a_pulse(&report.network);
 }

@@ -6,12 +6,13 @@
 //! `cargo run --release -p fmu-pack --example identification`, not here.
 
 use hydrofmu::database::import::{import, ImportParams};
-use hydrofmu::fmu::variables::Quantity;
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FitReport, FrequencyResponse};
-use hydrofmu::network::Network;
 use hydrofmu::scene::Scene;
 use std::path::Path;
+
+mod common;
+use common::assert_passive_and_forgets_a_pulse;
 
 /// The scene's default fit of a hull file in `examples/hulls` (all DOFs, kR 0.05 .. 5).
 fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
@@ -23,40 +24,6 @@ fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
     let response = built.response(&sweep).unwrap();
     let fit = built.fit(&response).unwrap();
     (response.fitted, fit)
-}
-
-/// Passive by the exact check, stable, and 300 s after a 1 s unit velocity pulse in any DOF
-/// every force is below 1e-3 of its peak (no spurious slow mode).
-fn assert_passive_and_forgets_a_pulse(network: &Network) {
-    let check = hydrofmu::passivity::check(&network.state_space().unwrap(), 1e-9);
-    assert!(check.passive && check.stable, "{check:?}");
-    let n = network.dof_count();
-    for dof in 0..n {
-        let mut model = hydrofmu::Model::new(
-            network,
-            hydrofmu::ModelOptions {
-                keep_inf_mass: false,
-                guid: None,
-            },
-        )
-        .unwrap();
-        let h = 0.05;
-        let (mut peak, mut last): (f64, f64) = (0.0, 0.0);
-        for k in 0..(301.0 / h) as usize {
-            let t = k as f64 * h;
-            let v = if t < 1.0 - 1e-9 { 1.0 } else { 0.0 };
-            model.set_value(Quantity::Velocity(dof), v).unwrap();
-            let largest = (0..n)
-                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
-                .fold(0.0, f64::max);
-            peak = peak.max(largest);
-            model.step(model.time(), h).unwrap();
-            last = (0..n)
-                .map(|j| model.value(Quantity::Force(j)).unwrap().abs())
-                .fold(0.0, f64::max);
-        }
-        assert!(last < 1e-3 * peak, "DOF {dof}: {last:e} of a peak {peak:e}");
-    }
 }
 
 /// The midship section (6 DOFs: sway, heave, roll and three plating modes). Before: 6 states

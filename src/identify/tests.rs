@@ -576,6 +576,17 @@ fn bad_input_gives_clear_errors() {
         },
     );
     assert!(e.contains("holds 0 frequency points"), "{e}");
+    // A noise of the wrong size or with a negative entry is refused by name.
+    for noise in [DMatrix::zeros(2, 2), DMatrix::from_element(1, 1, -1.0)] {
+        let e = err(
+            &data,
+            FitParams {
+                noise: Some(noise),
+                ..series_chain()
+            },
+        );
+        assert!(e.contains("noise must be a 1 x 1 matrix"), "{e}");
+    }
     let e = err(
         &data,
         FitParams {
