@@ -44,7 +44,7 @@ fn database(name: &str, path: &Path) -> Result<Case, String> {
         name: name.to_string(),
         data: db.response(),
         band: (0.0, f64::INFINITY),
-        noise: Some(db.reciprocity_gap.clone()),
+        noise: Some(db.noise.clone()),
     })
 }
 

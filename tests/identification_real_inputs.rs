@@ -28,8 +28,9 @@ fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
 
 /// The midship section (6 DOFs: sway, heave, roll and three plating modes). Before: 6 states
 /// at 50.7 %, tolerance missed (every order >= 2 failed the passivity enforcement). Peer: a
-/// passive vector fit with 36 states at 0.66 %. Measured: 28 states, 0.896 % (the
-/// antisymmetric block at order 6, the symmetric one at order 5).
+/// passive vector fit with 36 states at 0.66 %. Measured: 23 states, 0.956 % (the
+/// 3-direction block at order 5, its poles refined under the passivity constraints, the
+/// 2-direction one at order 4).
 #[test]
 fn midship_meets_the_tolerance_with_fewer_states_than_a_vector_fit() {
     let (_, fit) = section_fit("midship.xml");
@@ -40,13 +41,14 @@ fn midship_meets_the_tolerance_with_fewer_states_than_a_vector_fit() {
         fit.notes
     );
     assert!(fit.tolerance_met, "{}", fit.max_relative_error);
-    assert!(fit.states <= 28, "{}", fit.states);
+    assert!(fit.states <= 23, "{}", fit.states);
     assert!(!fit.network.substructures.is_empty());
     assert_passive_and_forgets_a_pulse(&fit.network);
 }
 
-/// The barge section. Before: 6 states at 60.4 %. Peer: 36 states at 0.97 %. Measured: 36
-/// states, 0.572 %.
+/// The barge section. Before: 6 states at 60.4 %. Peer: 36 states at 0.97 %. Measured: 30
+/// states, 0.973 % (both 3-direction blocks at order 5, poles refined; without the
+/// refinement 36 states at 0.572 %).
 #[test]
 fn barge_meets_the_tolerance_with_at_most_a_vector_fits_states() {
     let (_, fit) = section_fit("barge.xml");
@@ -57,14 +59,13 @@ fn barge_meets_the_tolerance_with_at_most_a_vector_fits_states() {
         fit.notes
     );
     assert!(fit.tolerance_met, "{}", fit.max_relative_error);
-    assert!(fit.max_relative_error < 0.006, "{}", fit.max_relative_error);
-    assert!(fit.states <= 36, "{}", fit.states);
+    assert!(fit.states <= 30, "{}", fit.states);
     assert_passive_and_forgets_a_pulse(&fit.network);
 }
 
 /// WAMIT's hemisphere at 7 frequencies (tests/data/wamit). Before: 12 states at 5.2 %, order
-/// 7 refused. Peer: 21 states at 0.21 %. Measured: 17 states, 0.998 % (three one-dimensional
-/// blocks at orders 6, 6 and 5), and a note that says what the network assumes between the 7
+/// 7 refused. Peer: 21 states at 0.21 %. Measured: 13 states, 0.670 % (three one-dimensional
+/// blocks at orders 4, 4 and 5), and a note that says what the network assumes between the 7
 /// points.
 #[test]
 fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
@@ -73,7 +74,7 @@ fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
     let fit = identify::fit(
         &database.response(),
         &FitParams {
-            noise: Some(database.reciprocity_gap.clone()),
+            noise: Some(database.noise.clone()),
             ..FitParams::default()
         },
     )
@@ -87,11 +88,38 @@ fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
     );
     assert_eq!(fit.points, 7);
     assert!(fit.tolerance_met, "{}", fit.max_relative_error);
-    assert!(fit.states <= 17, "{}", fit.states);
+    assert!(fit.states <= 13, "{}", fit.states);
     // Fewer poles per invariant block than points.
     assert!(fit.order < 7, "{}", fit.order);
     assert!(
         fit.notes.iter().any(|n| n.contains("only 7 frequencies")),
+        "{:?}",
+        fit.notes
+    );
+    assert_passive_and_forgets_a_pulse(&fit.network);
+}
+
+/// The circle at H/R 1.5 (sway, heave, roll; kR 0.05 .. 5): its damping vanishes towards
+/// the band's top (`exp(-2 k H)`), so the passivity constraints bind there. Before: 12 states
+/// (order 6 per block) at 0.303 %; the relocated poles at order 4 give 1.24 % once passive.
+/// Peer: 8 states at 0.70 %. Measured: 8 states, 0.792 % (order 4 per block, poles refined
+/// under the constraints), and a note naming the refined blocks.
+#[test]
+fn a_submerged_circle_meets_the_tolerance_with_a_vector_fits_states() {
+    let built = Scene::new(Hull::circle(1.0, 1.5).unwrap()).build().unwrap();
+    let sweep = built.sweep(&|_, _| {}).unwrap();
+    let response = built.response(&sweep).unwrap();
+    let fit = built.fit(&response).unwrap();
+    eprintln!(
+        "circle: {} states, {:.3} %, notes {:?}",
+        fit.states,
+        100.0 * fit.max_relative_error,
+        fit.notes
+    );
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    assert!(fit.states <= 8, "{}", fit.states);
+    assert!(
+        fit.notes.iter().any(|n| n.contains("poles moved")),
         "{:?}",
         fit.notes
     );
@@ -153,7 +181,7 @@ fn noise_above_the_tolerance_sets_the_floor_with_a_note() {
     let fit = identify::fit(
         &noisy.response(),
         &FitParams {
-            noise: Some(noisy.reciprocity_gap.clone()),
+            noise: Some(noisy.noise.clone()),
             ..FitParams::default()
         },
     )

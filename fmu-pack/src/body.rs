@@ -169,7 +169,7 @@ pub fn fit(
             band: (lo, hi),
             tolerance,
             order,
-            noise: Some(database.reciprocity_gap.clone()),
+            noise: Some(database.noise.clone()),
             ..FitParams::default()
         },
     )

@@ -1025,7 +1025,7 @@ fn convert(
         failures: Vec::new(),
         warnings,
         notes,
-        reciprocity_gap: DMatrix::zeros(n, n),
+        noise: DMatrix::zeros(n, n),
         body_panels: Vec::new(),
     };
     Ok(ImportedCapytaine {

@@ -234,7 +234,7 @@ pub fn finish(
         super::retain_flagged(&mut database.omega, &keep);
         super::retain_flagged(&mut gaps, &keep);
     }
-    database.reciprocity_gap = largest_gap(&gaps, database.dof_names.len());
+    database.noise = largest_gap(&gaps, database.dof_names.len());
     if database.omega.len() < 3 {
         return Err(DatabaseError::file(
             &file,

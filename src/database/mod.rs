@@ -67,10 +67,11 @@ pub struct Database {
     pub warnings: Vec<String>,
     /// What an import left out, estimated or assumed, one line each (for the reports).
     pub notes: Vec<String>,
-    /// The data's own noise: per entry, the largest `|A~_ij - A~_ji| / 2` over the frequencies
-    /// kept (SI), before `A~` was made symmetric; zero where the source is reciprocal by
-    /// construction (sections, ships). The fit aims no lower than this ([`crate::identify`]).
-    pub reciprocity_gap: DMatrix<f64>,
+    /// The data's own noise, per entry (SI): the largest reciprocity gap
+    /// `|A~_ij - A~_ji| / 2` over the frequencies kept, before `A~` was made symmetric; zero
+    /// where the source is reciprocal by construction (sections, ships). The fit is judged
+    /// against no less than this ([`crate::identify`]).
+    pub noise: DMatrix<f64>,
     /// Body panels of each distinct section (finest level); empty for an imported database.
     pub body_panels: Vec<usize>,
 }
@@ -198,8 +199,8 @@ impl Database {
             stiffness_hydrostatic: DMatrix::from_fn(n, n, |i, j| {
                 self.stiffness_hydrostatic[(index[i], index[j])]
             }),
-            reciprocity_gap: DMatrix::from_fn(n, n, |i, j| {
-                self.reciprocity_gap[(index[i], index[j])]
+            noise: DMatrix::from_fn(n, n, |i, j| {
+                self.noise[(index[i], index[j])]
             }),
             dof_units: index.iter().map(|&i| self.dof_units[i].clone()).collect(),
             ..self.clone()

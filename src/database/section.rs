@@ -179,11 +179,11 @@ impl SectionDatabase {
                 .collect(),
             warnings: sweep.warnings.clone(),
             notes,
-            reciprocity_gap: DMatrix::zeros(0, 0),
+            noise: DMatrix::zeros(0, 0),
             body_panels: vec![sweep.panel_counts.0],
         };
         let gaps = super::import::symmetrize(&mut database);
-        database.reciprocity_gap = super::import::largest_gap(&gaps, database.dof_names.len());
+        database.noise = super::import::largest_gap(&gaps, database.dof_names.len());
         if let Some(what) = database.first_non_finite() {
             return Err(format!("{what} of the section is not finite in SI"));
         }

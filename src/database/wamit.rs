@@ -770,7 +770,7 @@ pub fn read(
         failures: Vec::new(),
         warnings: Vec::new(),
         notes,
-        reciprocity_gap: DMatrix::zeros(n, n),
+        noise: DMatrix::zeros(n, n),
         body_panels: Vec::new(),
     };
     if let Some(what) = database.first_non_finite() {

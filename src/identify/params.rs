@@ -41,7 +41,7 @@ pub struct FitParams {
     /// How the coupled form is fitted; default [`CoupledMethod::Rational`] (fewest states).
     pub coupled_method: CoupledMethod,
     /// The data's own noise per entry (n x n, A~ units), e.g. an imported database's
-    /// reciprocity gap ([`crate::database::Database::reciprocity_gap`]); `None` (default):
+    /// reciprocity gap ([`crate::database::Database::noise`]); `None` (default):
     /// none known. Where its largest entry over `sqrt(s_i s_j)` (the noise floor) exceeds the
     /// tolerance, the fit still aims at the tolerance but is judged against the noise floor
     /// ([`FitReport::tolerance`], `tolerance_met`) and says so in [`FitReport::notes`]: no

@@ -13,6 +13,14 @@
 //! 6 poles). The passivity margin is 2 % of the tolerance and the couplings the block split
 //! may drop a tenth of it, so both together cost at most 12 % of the error budget.
 //!
+//! Pole refinement: the relocation places a block's poles for the free fit. Where the passive
+//! fit misses the block's tolerance although the free fit meets it (data whose damping
+//! vanishes inside the band, as a submerged body's at its top: the constraints bind there),
+//! [`Blocks::refine`] moves the poles to fit better under the constraints (at most
+//! [`REFINEMENT_EVALUATIONS`] enforced fits). The circle at H/R 1.5: order 4 per block
+//! goes from 1.24 % to 0.61-0.79 %, 8 states instead of 12 at order 6; a note names every
+//! block so refined.
+//!
 //! Physical bounds: a candidate whose poles are not all within [`POLE_RANGE`] of the band
 //! (below its bottom over `POLE_RANGE`, above its top times it) is refused: such a pole is a
 //! spurious slow mode (a mass that acts as a spring to the ground for minutes) or a stiff one
@@ -23,6 +31,7 @@ use super::synthesis::synthesize;
 use super::vector_fitting::{BlockFit, Blocks, RationalFit, VectorFitParams};
 use super::{FitParams, FrequencyResponse, IdentifyError};
 use crate::network::Network;
+use num_complex::Complex64;
 
 /// How far outside the band a pole modulus may lie (factor).
 pub const POLE_RANGE: f64 = 30.0;
@@ -80,6 +89,15 @@ fn refusal(fit: &BlockFit, omega_ref: f64, band: (f64, f64)) -> Option<String> {
                  than a factor {POLE_RANGE}"
             )
         })
+}
+
+/// Whether two pole sets agree to 1e-3 of their moduli.
+fn same_poles(a: &[Complex64], b: &[Complex64]) -> bool {
+    a.len() == b.len()
+        && a
+            .iter()
+            .zip(b)
+            .all(|(p, q)| (p - q).norm() <= 1e-3 * p.norm().max(q.norm()))
 }
 
 /// Residues whose column spaces overlap less than this (relative) act on orthogonal motions.
@@ -148,6 +166,11 @@ struct Search {
     best: Option<(usize, BlockFit)>,
 }
 
+/// Enforced fits [`Blocks::refine`] may try per candidate whose free fit meets the block's
+/// tolerance and whose passive fit does not (80: the midship's 3-direction block at order 5
+/// from 2.9 % to 0.96 % in 4 s, whole fit).
+pub const REFINEMENT_EVALUATIONS: usize = 80;
+
 /// Rounds of tightening the blocks' tolerances when their errors add up past the tolerance.
 const TIGHTENING_ROUNDS: usize = 4;
 
@@ -191,6 +214,7 @@ pub(super) fn fit_rational(
         .collect();
     let mut iterations = 0;
     let mut failures: Vec<String> = Vec::new();
+    let mut refinements: Vec<String> = Vec::new();
     let mut block_tolerance = tolerance;
     let mut best: Option<(f64, usize, Network)> = None;
     let mut last_failure = String::new();
@@ -201,6 +225,7 @@ pub(super) fn fit_rational(
             {
                 let k = search.next_order;
                 search.next_order += 1;
+                let mut tried: Vec<Vec<Complex64>> = Vec::new();
                 for (pairs, real) in layouts(k) {
                     let vf = VectorFitParams {
                         complex_pairs: pairs,
@@ -208,7 +233,31 @@ pub(super) fn fit_rational(
                         ..base.clone()
                     };
                     iterations += vf.iterations;
-                    let fit = blocks.fit(b, &vf);
+                    let mut fit = blocks.fit(b, &vf);
+                    // Both layouts of an even order often relocate to the same poles.
+                    if tried.iter().any(|p| same_poles(p, &fit.poles)) {
+                        continue;
+                    }
+                    tried.push(fit.poles.clone());
+                    if fit.enforcement.free_error <= block_tolerance
+                        && fit.error > block_tolerance
+                        && fit.enforcement.passive
+                    {
+                        // The poles can meet the tolerance; the constraints cost the rest.
+                        let refined = blocks.refine(b, &fit, &vf, REFINEMENT_EVALUATIONS);
+                        if refusal(&refined, blocks.omega_ref(), band).is_none() {
+                            if refined.error < fit.error {
+                                refinements.push(format!(
+                                    "block {} order {k} ({pairs} pairs, {real} real) {:.3} % -> \
+                                     {:.3} %",
+                                    b + 1,
+                                    100.0 * fit.error,
+                                    100.0 * refined.error
+                                ));
+                            }
+                            fit = refined;
+                        }
+                    }
                     if let Some(why) = refusal(&fit, blocks.omega_ref(), band) {
                         failures.push(format!(
                             "block {} ({} DOF directions), order {k} ({pairs} pairs, {real} \
@@ -262,6 +311,12 @@ pub(super) fn fit_rational(
             "rational fit: {} candidate(s) refused: {}",
             failures.len(),
             failures.join("; ")
+        ));
+    }
+    if !refinements.is_empty() {
+        notes.push(format!(
+            "rational fit: poles moved to fit better under the passivity constraints: {}",
+            refinements.join("; ")
         ));
     }
     let Some((error, order, network)) = best else {

@@ -582,7 +582,8 @@ pub fn passive_vector_fit(
     params: &VectorFitParams,
 ) -> Result<(RationalFit, Enforcement), IdentifyError> {
     let problem = Problem::new(response, params)?;
-    let (poles, x, enforcement) = enforce(&problem, params);
+    let poles = problem.poles(params);
+    let (x, enforcement) = enforce(&problem, &poles, params);
     let (a, rhs) = problem.residue_system(&poles);
     let error = problem.max_error(&a, &rhs, &x);
     Ok((problem.model(&poles, &x, error, false), enforcement))
@@ -733,9 +734,94 @@ impl Blocks {
     /// The passive fit of block `b` with the poles of `params` (its band and margin are the
     /// ones [`Blocks::new`] was made with).
     pub fn fit(&self, b: usize, params: &VectorFitParams) -> BlockFit {
+        let sub = &self.blocks[b].0;
+        let poles = sub.poles(params);
+        let (x, enforcement) = enforce(sub, &poles, params);
+        self.block_fit(b, &poles, &x, enforcement)
+    }
+
+    /// Moves the poles of `fit` (block `b`) to lower the error of the passive fit: the
+    /// relocation places them for the free fit, and where the passivity constraints bind
+    /// (data whose damping vanishes in the band, as a submerged body's at high frequency)
+    /// other poles fit better under them. Nelder-Mead ([`crate::numerics::nelder_mead`]) over
+    /// the logarithms of each pole's decay rate and frequency, each candidate's residues
+    /// enforced passive as in [`Blocks::fit`], at most `evaluations` enforcements. Returns
+    /// the better of `fit` and the refined fit.
+    pub fn refine(
+        &self,
+        b: usize,
+        fit: &BlockFit,
+        params: &VectorFitParams,
+        evaluations: usize,
+    ) -> BlockFit {
+        let sub = &self.blocks[b].0;
+        let start: Vec<f64> = fit
+            .poles
+            .iter()
+            .flat_map(|p| {
+                if p.im == 0.0 {
+                    vec![(-p.re).ln()]
+                } else {
+                    vec![(-p.re).ln(), p.im.ln()]
+                }
+            })
+            .collect();
+        let layout: Vec<bool> = fit.poles.iter().map(|p| p.im != 0.0).collect();
+        let poles_of = |v: &[f64]| -> Poles {
+            let mut at = 0;
+            layout
+                .iter()
+                .map(|&pair| {
+                    let re = -v[at].exp();
+                    at += 1;
+                    if pair {
+                        at += 1;
+                        Complex64::new(re, v[at - 1].exp())
+                    } else {
+                        Complex64::new(re, 0.0)
+                    }
+                })
+                .collect()
+        };
+        let mut objective = |v: &[f64]| {
+            let poles = poles_of(v);
+            let (x, enforcement) = enforce(sub, &poles, params);
+            if !enforcement.passive {
+                return f64::INFINITY;
+            }
+            let (a, rhs) = sub.residue_system(&poles);
+            sub.max_error(&a, &rhs, &x)
+        };
+        let minimum = crate::numerics::nelder_mead(
+            &mut objective,
+            &start,
+            REFINEMENT_STEP,
+            REFINEMENT_TOLERANCE * fit.error,
+            evaluations,
+        );
+        if !minimum.value.is_finite() {
+            return fit.clone();
+        }
+        let poles = poles_of(&minimum.x);
+        let (x, enforcement) = enforce(sub, &poles, params);
+        let refined = self.block_fit(b, &poles, &x, enforcement);
+        if refined.enforcement.passive && refined.error < fit.error {
+            refined
+        } else {
+            fit.clone()
+        }
+    }
+
+    /// The block fit of poles and passive coefficients `x`, mapped to all DOFs.
+    fn block_fit(
+        &self,
+        b: usize,
+        poles: &Poles,
+        x: &DMatrix<f64>,
+        enforcement: Enforcement,
+    ) -> BlockFit {
         let (sub, q) = &self.blocks[b];
-        let (poles, x, enforcement) = enforce(sub, params);
-        let model = sub.model(&poles, &x, 0.0, true);
+        let model = sub.model(poles, x, 0.0, true);
         let residues: Vec<DMatrix<Complex64>> = model
             .residues
             .iter()
@@ -872,11 +958,20 @@ const SAMPLES_PER_DECADE: f64 = 16.0;
 const ADMM_ITERATIONS: usize = 100;
 const ADMM_TOLERANCE: f64 = 1e-6;
 
-/// The poles and the passive residues of a normalized problem (see [`passive_vector_fit`]).
-fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>, Enforcement) {
+/// [`Blocks::refine`]: the first simplex's step in the logarithms of the poles' parts (a
+/// 10 % change), and the spread of the simplex's errors, relative to the starting error, at
+/// which it stops.
+const REFINEMENT_STEP: f64 = 0.1;
+const REFINEMENT_TOLERANCE: f64 = 1e-3;
+
+/// The passive residues of a normalized problem for given poles (see [`passive_vector_fit`]).
+fn enforce(
+    problem: &Problem,
+    poles: &Poles,
+    params: &VectorFitParams,
+) -> (DMatrix<f64>, Enforcement) {
     use crate::numerics::{lmi_least_squares, MatrixInequalities};
 
-    let poles = problem.poles(params);
     let (a, rhs) = problem.residue_system(&poles);
     let basis_size = a.ncols();
     let free = least_squares(&a, &rhs);
@@ -961,7 +1056,7 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
     // Each pole's part has unit norm in the scaled coefficients.
     let mut raise = DVector::<f64>::zeros(basis_size);
     let mut column = 0;
-    for p in &poles {
+    for p in poles {
         let part: Vec<f64> = if p.im == 0.0 {
             vec![norms[column]]
         } else {
@@ -1066,7 +1161,6 @@ fn enforce(problem: &Problem, params: &VectorFitParams) -> (Poles, DMatrix<f64>,
         }
     }
     (
-        poles,
         from_scaled(&shifted),
         Enforcement {
             free_error,

@@ -69,6 +69,58 @@ fn project_shifted(m: &DMatrix<f64>, delta: f64) -> DMatrix<f64> {
     crate::numerics::project_psd(&shifted) + DMatrix::<f64>::identity(n, n) * delta
 }
 
+/// [`project_shifted`] of the symmetric matrix whose entries `pairs` are `values`, written
+/// back into `values`: closed forms for n = 1 and 2 (the blocks of most fits), no allocation.
+fn project_entries(n: usize, pairs: &[(usize, usize)], values: &mut [f64], delta: f64) {
+    match n {
+        1 => values[0] = values[0].max(delta),
+        2 => {
+            // Entries (0,0), (0,1), (1,1) in `pairs` order.
+            let at = |i: usize, j: usize| pairs.iter().position(|&p| p == (i, j));
+            let (Some(ia), Some(ib), Some(ic)) = (at(0, 0), at(0, 1), at(1, 1)) else {
+                return;
+            };
+            let (a, b, c) = (values[ia] - delta, values[ib], values[ic] - delta);
+            let mean = 0.5 * (a + c);
+            let radius = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+            let (low, high) = (mean - radius, mean + radius);
+            if low >= 0.0 {
+                return;
+            }
+            let (pa, pb, pc) = if high <= 0.0 {
+                (0.0, 0.0, 0.0)
+            } else {
+                // high * v v^T, v the unit eigenvector of `high`.
+                let (vx, vy) = if (high - c).abs() >= (high - a).abs() {
+                    (high - c, b)
+                } else {
+                    (b, high - a)
+                };
+                let norm2 = vx * vx + vy * vy;
+                if norm2 == 0.0 {
+                    (high, 0.0, high)
+                } else {
+                    (high * vx * vx / norm2, high * vx * vy / norm2, high * vy * vy / norm2)
+                }
+            };
+            values[ia] = pa + delta;
+            values[ib] = pb;
+            values[ic] = pc + delta;
+        }
+        _ => {
+            let mut m = DMatrix::zeros(n, n);
+            for (e, &(i, j)) in pairs.iter().enumerate() {
+                m[(i, j)] = values[e];
+                m[(j, i)] = values[e];
+            }
+            let p = project_shifted(&m, delta);
+            for (e, &(i, j)) in pairs.iter().enumerate() {
+                values[e] = p[(i, j)];
+            }
+        }
+    }
+}
+
 /// Solves the problem of the module docs from `start` (N x E), and from the state of an
 /// earlier solve whose rows were the first ones of these (`None`: from scratch).
 pub fn lmi_least_squares(
@@ -108,10 +160,14 @@ pub fn lmi_least_squares(
     let mut x = start.clone();
     let mut s = &rows * &x; // K x E
     let mut z = DMatrix::<f64>::zeros(count, entries);
+    let mut values = vec![0.0; entries];
     for k in 0..count {
-        let p = project_shifted(&to_matrix(&s, k), margins[k]);
-        for (e, &(i, j)) in pairs.iter().enumerate() {
-            z[(k, e)] = p[(i, j)];
+        for (e, v) in values.iter_mut().enumerate() {
+            *v = s[(k, e)];
+        }
+        project_entries(n, pairs, &mut values, margins[k]);
+        for (e, v) in values.iter().enumerate() {
+            z[(k, e)] = *v;
         }
     }
     let mut u = DMatrix::<f64>::zeros(count, entries);
@@ -157,15 +213,12 @@ pub fn lmi_least_squares(
         let relaxed = &s * alpha + &z * (1.0 - alpha);
         let z_old = z.clone();
         for k in 0..count {
-            let mut m = to_matrix(&relaxed, k);
-            for (e, &(i, j)) in pairs.iter().enumerate() {
-                let value = m[(i, j)] + u[(k, e)];
-                m[(i, j)] = value;
-                m[(j, i)] = value;
+            for (e, v) in values.iter_mut().enumerate() {
+                *v = relaxed[(k, e)] + u[(k, e)];
             }
-            let p = project_shifted(&m, margins[k]);
-            for (e, &(i, j)) in pairs.iter().enumerate() {
-                z[(k, e)] = p[(i, j)];
+            project_entries(n, pairs, &mut values, margins[k]);
+            for (e, v) in values.iter().enumerate() {
+                z[(k, e)] = *v;
             }
         }
         u += &relaxed - &z;
@@ -214,6 +267,33 @@ mod tests {
 
     /// A 2 x 2 symmetric matrix fitted to an indefinite target under `S >= 0`: the nearest PSD
     /// matrix in the weighted norm, which is the Frobenius projection (R = I, one row psi = 1).
+    #[test]
+    fn the_closed_forms_project_like_the_general_path() {
+        let mut rng = crate::numerics::SplitMix64::new(7);
+        for n in 1..=2 {
+            let pairs: Vec<(usize, usize)> =
+                (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
+            for _ in 0..200 {
+                let values: Vec<f64> = pairs.iter().map(|_| 2.0 * rng.uniform() - 1.0).collect();
+                let delta = 0.1 * rng.uniform();
+                let mut m = DMatrix::zeros(n, n);
+                for (e, &(i, j)) in pairs.iter().enumerate() {
+                    m[(i, j)] = values[e];
+                    m[(j, i)] = values[e];
+                }
+                let general = project_shifted(&m, delta);
+                let mut closed = values.clone();
+                project_entries(n, &pairs, &mut closed, delta);
+                for (e, &(i, j)) in pairs.iter().enumerate() {
+                    assert!(
+                        (closed[e] - general[(i, j)]).abs() < 1e-12,
+                        "{m} {delta}: {closed:?} against {general}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn one_sample_gives_the_psd_projection() {
         let pairs = [(0, 0), (0, 1), (1, 1)];

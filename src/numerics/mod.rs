@@ -1,11 +1,13 @@
 //! Hydrodynamics-free numerics used by the identification: nonlinear least squares
 //! (Levenberg-Marquardt with a typed termination reason), non-negative least squares, least
-//! squares under sampled linear matrix inequalities (ADMM), projection onto the positive semi-definite
+//! squares under sampled linear matrix inequalities (ADMM), derivative-free minimization
+//! (Nelder-Mead), projection onto the positive semi-definite
 //! cone, the matrix sign function, eigenvalues with a bounded iteration, and a small deterministic random generator. Each module states its equation.
 
 mod eigenvalues;
 mod least_squares;
 mod lmi_least_squares;
+mod nelder_mead;
 mod nnls;
 mod psd;
 mod rng;
@@ -14,6 +16,7 @@ mod sign;
 pub use eigenvalues::{eigenvalues, symmetric_eigen};
 pub use least_squares::{levenberg_marquardt, LeastSquares};
 pub use lmi_least_squares::{lmi_least_squares, MatrixInequalities};
+pub use nelder_mead::nelder_mead;
 pub use nnls::nnls;
 pub use psd::project_psd;
 pub use rng::SplitMix64;

@@ -492,7 +492,7 @@ pub fn run(
         failures: Vec::new(),
         warnings: Vec::new(),
         notes: Vec::new(),
-        reciprocity_gap: DMatrix::zeros(n, n),
+        noise: DMatrix::zeros(n, n),
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
     };
     let count = params.omega.len();

@@ -55,9 +55,10 @@ def test_the_fit_says_the_noise_floor_and_meets_it(fmu_pack_binary, coarse_box):
     # import's note says 2.09 % of the local sqrt(|A~_ii A~_jj|) at 3.9 rad/s).
     assert 0.012 < fit["tolerance"] < 0.015, fit["tolerance"]
     assert fit["tolerance_met"], fit["max_relative_error"]
-    # Measured 1.103 % with 59 states (four invariant blocks, each its own order).
-    assert 0.01 < fit["max_relative_error"] <= fit["tolerance"]
-    assert fit["states"] <= 60, fit["states"]
+    # Measured 0.854 % with 52 states (four invariant blocks, each its own order, poles
+    # refined under the passivity constraints); before the refinement 1.103 % with 59.
+    assert fit["max_relative_error"] <= fit["tolerance"]
+    assert fit["states"] <= 52, fit["states"]
     assert fit["passive"] is True
     # The import's own notes travel with the fit's.
     assert any(n.startswith("A~ made symmetric (reciprocity)") for n in notes), notes
