@@ -20,7 +20,12 @@
 //! ```
 //!
 //! with `beta` = [`PanelParams::clustering`]. Closed contours (submerged hulls) are spaced
-//! uniformly in arc length. Contour vertices of hull files always become panel nodes.
+//! uniformly in arc length. Contour vertices of hull files become panel nodes: each takes the
+//! node nearest to it in that spacing, the nodes between keep their relative spacing; with more
+//! vertices than nodes, those where the contour turns least are left out and counted
+//! ([`Mesh::dropped_vertices`]). A contour symmetric about a vertical line gets a mesh
+//! symmetric to rounding by construction: one half is meshed and mirrored
+//! ([`Mesh::mirror_axis`]).
 //!
 //! For the removal of irregular frequencies, an open contour also gets an interior lid: panels
 //! on the free surface `y = 0` between the two waterline points, inside the body, with the
@@ -155,6 +160,12 @@ pub struct Mesh {
     pub dof_names: Vec<String>,
     /// Reference half-beam R of the hull.
     pub reference_half_beam: f64,
+    /// `x` of the vertical line the mesh is mirror-symmetric about (exactly: one half's
+    /// nodes mirrored), for a symmetric contour; `None` for an asymmetric one.
+    pub mirror_axis: Option<f64>,
+    /// Contour vertices that are not panel nodes (more vertices than the panel count holds;
+    /// those where the contour turns least are left out, cut along a chord).
+    pub dropped_vertices: usize,
 }
 
 impl Mesh {
@@ -313,17 +324,105 @@ fn nodes_toward_the_surface(count: usize, clustering: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Moves the node nearest to each breakpoint onto it, so contour corners are panel nodes.
-fn snap_to_breakpoints(nodes: &mut [f64], breakpoints: &[f64]) {
-    for &b in breakpoints {
-        if let Some((i, _)) = nodes
-            .iter()
-            .enumerate()
-            .min_by(|a, c| (a.1 - b).abs().total_cmp(&(c.1 - b).abs()))
-        {
-            nodes[i] = b;
-        }
+/// Places contour vertices (`vertices`, node parameters strictly inside
+/// `(nodes[lo], nodes[hi])`, ascending) onto nodes `lo + 1 .. hi - 1`, keeping `nodes[lo]`
+/// and `nodes[hi]`. Each vertex takes the node its position has in the original spacing
+/// (rounded), moved as little as needed to keep the order; the nodes between two placed
+/// vertices keep their relative spacing. With more vertices than free nodes, the vertices
+/// whose contour turns least (`turning`, radians, one per vertex) are left out. Returns the
+/// number left out.
+fn place_vertices(
+    nodes: &mut [f64],
+    lo: usize,
+    hi: usize,
+    vertices: &[f64],
+    turning: &[f64],
+) -> usize {
+    let free = hi.saturating_sub(lo + 1);
+    let mut kept: Vec<usize> = (0..vertices.len()).collect();
+    if kept.len() > free {
+        kept.sort_by(|&a, &b| turning[b].total_cmp(&turning[a]).then(a.cmp(&b)));
+        kept.truncate(free);
+        kept.sort_unstable();
     }
+    let dropped = vertices.len() - kept.len();
+    if kept.is_empty() {
+        return dropped;
+    }
+    let original = nodes.to_vec();
+    // The fractional index of a parameter in the original spacing.
+    let index_of = |v: f64| -> f64 {
+        let k = original[lo..=hi].partition_point(|&x| x <= v) + lo;
+        let k = k.clamp(lo + 1, hi);
+        let (a, b) = (original[k - 1], original[k]);
+        (k - 1) as f64 + if b > a { (v - a) / (b - a) } else { 0.0 }
+    };
+    let mut at: Vec<usize> = kept
+        .iter()
+        .map(|&v| (index_of(vertices[v]).round() as usize).clamp(lo + 1, hi - 1))
+        .collect();
+    // Strictly increasing, inside lo + 1 ..= hi - 1 (possible: kept <= free).
+    for k in 1..at.len() {
+        at[k] = at[k].max(at[k - 1] + 1);
+    }
+    let last = at.len() - 1;
+    at[last] = at[last].min(hi - 1);
+    for k in (0..last).rev() {
+        at[k] = at[k].min(at[k + 1] - 1);
+    }
+    // Anchors: the ends and the placed vertices; between two, the original spacing rescaled.
+    let mut anchors: Vec<(usize, f64)> = vec![(lo, nodes[lo])];
+    anchors.extend(at.iter().zip(&kept).map(|(&i, &v)| (i, vertices[v])));
+    anchors.push((hi, nodes[hi]));
+    for pair in anchors.windows(2) {
+        let ((i0, v0), (i1, v1)) = (pair[0], pair[1]);
+        let (o0, o1) = (original[i0], original[i1]);
+        for i in i0 + 1..i1 {
+            let f = if o1 > o0 {
+                (original[i] - o0) / (o1 - o0)
+            } else {
+                (i - i0) as f64 / (i1 - i0) as f64
+            };
+            nodes[i] = v0 + f * (v1 - v0);
+        }
+        nodes[i1] = v1;
+    }
+    dropped
+}
+
+/// The mirror axis `x = x_c` of a contour symmetric about a vertical line, in node parameters
+/// `t`: `point(1 - t)` is the mirror image of `point(t)` (to 1e-9 of the contour's size) at
+/// every vertex and at 64 points between, and the vertices come in mirrored pairs. `None`
+/// for an asymmetric contour.
+fn mirror_axis(point: &dyn Fn(f64) -> Point, vertices: &[f64], size: f64) -> Option<f64> {
+    let (a, b) = (point(0.0), point(1.0));
+    let axis = 0.5 * (a[0] + b[0]);
+    let tolerance = 1e-9 * size;
+    let mirrored = |t: f64| {
+        let (p, q) = (point(t), point(1.0 - t));
+        (p[0] + q[0] - 2.0 * axis).abs() <= tolerance && (p[1] - q[1]).abs() <= tolerance
+    };
+    let paired = vertices
+        .iter()
+        .all(|&v| vertices.iter().any(|&w| (v + w - 1.0).abs() <= 1e-9));
+    let samples = (0..=64).map(|i| i as f64 / 128.0);
+    (paired && vertices.iter().copied().chain(samples).all(mirrored)).then_some(axis)
+}
+
+/// The turning angle of the contour at each vertex (radians), from the chords to its
+/// neighbouring vertices (the ends `0` and `1` stand in where there is none).
+fn turning_angles(point: &dyn Fn(f64) -> Point, vertices: &[f64]) -> Vec<f64> {
+    (0..vertices.len())
+        .map(|k| {
+            let before = if k == 0 { 0.0 } else { vertices[k - 1] };
+            let after = vertices.get(k + 1).copied().unwrap_or(1.0);
+            let (p, q, r) = (point(before), point(vertices[k]), point(after));
+            let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
+            (u[0] * v[1] - u[1] * v[0])
+                .atan2(u[0] * v[0] + u[1] * v[1])
+                .abs()
+        })
+        .collect()
 }
 
 /// Discretizes `hull` into panels.
@@ -386,12 +485,68 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
             })
             .collect()
     };
-    snap_to_breakpoints(&mut nodes, &corners);
+    // Vertices strictly inside (0, 1): the ends are nodes already.
+    let vertices: Vec<f64> = {
+        let mut v: Vec<f64> = corners
+            .iter()
+            .copied()
+            .filter(|&c| c > 1e-12 && c < 1.0 - 1e-12)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+        v
+    };
+    let point = |t: f64| hull.point(parameter(t));
+    let size = hull.contour_length();
+    let axis = mirror_axis(&point, &vertices, size);
+    let count = params.body_panels;
+    let dropped_vertices = if axis.is_some() {
+        // One half, mirrored: nodes t and 1 - t. An even count has the node 1/2; an odd one
+        // a middle panel across it.
+        let half = count / 2;
+        if count % 2 == 0 {
+            nodes[half] = 0.5;
+        }
+        let inside: Vec<f64> = vertices
+            .iter()
+            .copied()
+            .filter(|&v| v < 0.5 - 1e-12)
+            .collect();
+        let turning = turning_angles(&point, &vertices);
+        let turning: Vec<f64> = vertices
+            .iter()
+            .zip(&turning)
+            .filter(|(v, _)| **v < 0.5 - 1e-12)
+            .map(|(_, a)| *a)
+            .collect();
+        let on_axis = vertices.iter().any(|&v| (v - 0.5).abs() <= 1e-12);
+        let mut dropped = if count % 2 == 0 {
+            place_vertices(&mut nodes, 0, half, &inside, &turning)
+        } else {
+            // The middle panel's first node stays below 1/2.
+            let dropped = place_vertices(&mut nodes, 0, half + 1, &inside, &turning);
+            if nodes[half] >= 0.5 {
+                // Not a vertex (those lie below 1/2): moved below the axis.
+                nodes[half] = 0.5 * (nodes[half - 1] + 0.5);
+            }
+            dropped + usize::from(on_axis)
+        };
+        for i in 0..count.div_ceil(2) {
+            nodes[count - i] = 1.0 - nodes[i];
+        }
+        dropped *= 2;
+        if count % 2 == 1 {
+            // The axis vertex counted once.
+            dropped -= usize::from(on_axis);
+        }
+        dropped
+    } else {
+        let turning = turning_angles(&point, &vertices);
+        place_vertices(&mut nodes, 0, count, &vertices, &turning)
+    };
     if closed {
-        // A corner snapped onto one end must hold the other end too.
         nodes[0] = 0.0;
-        let last = nodes.len() - 1;
-        nodes[last] = 1.0;
+        nodes[count] = 1.0;
     }
     if nodes.windows(2).any(|w| w[1] <= w[0]) {
         return Err(PanelError::UnresolvedCorners {
@@ -399,11 +554,22 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
             corners: breakpoints.len(),
         });
     }
+    // Node points; a symmetric contour's second half is the first one's exact mirror image.
+    let mut points: Vec<Point> = nodes.iter().map(|&t| point(t)).collect();
+    if let Some(x) = axis {
+        if count % 2 == 0 {
+            points[count / 2][0] = x;
+        }
+        for i in 0..count.div_ceil(2) {
+            let p = points[i];
+            points[count - i] = [2.0 * x - p[0], p[1]];
+        }
+    }
     let dof_count = hull.dof_names().len();
     let mut body = Vec::with_capacity(params.body_panels);
     let mut normal_velocity = DMatrix::zeros(params.body_panels, dof_count);
     for (l, w) in nodes.windows(2).enumerate() {
-        let panel = Panel::new(hull.point(parameter(w[0])), hull.point(parameter(w[1])));
+        let panel = Panel::new(points[l], points[l + 1]);
         if !(panel.length > 0.0 && panel.length.is_finite()) {
             return Err(PanelError::ZeroLengthPanel(l));
         }
@@ -432,12 +598,20 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         let count = count as usize;
         // The lid runs from the right waterline to the left one, so the body (below it, seen
         // from the air) is on its left like every other panel.
-        clustered_nodes(count, params.clustering)
-            .windows(2)
-            .map(|w| {
-                let x = |s: f64| right[0] + (left[0] - right[0]) * s;
-                Panel::new([x(w[0]), 0.0], [x(w[1]), 0.0])
-            })
+        let mut xs: Vec<f64> = clustered_nodes(count, params.clustering)
+            .iter()
+            .map(|s| right[0] + (left[0] - right[0]) * s)
+            .collect();
+        if let Some(x) = axis {
+            for i in 0..count.div_ceil(2) {
+                xs[count - i] = 2.0 * x - xs[i];
+            }
+            if count % 2 == 0 {
+                xs[count / 2] = x;
+            }
+        }
+        xs.windows(2)
+            .map(|w| Panel::new([w[0], 0.0], [w[1], 0.0]))
             .collect()
     };
     Ok(Mesh {
@@ -446,6 +620,8 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         normal_velocity,
         dof_names: hull.dof_names().iter().map(|s| s.to_string()).collect(),
         reference_half_beam: hull.reference_half_beam(),
+        mirror_axis: axis,
+        dropped_vertices,
     })
 }
 
@@ -539,5 +715,150 @@ mod tests {
         assert!(mesh.wavelength_warning(0.5).is_none());
         let warning = mesh.wavelength_warning(20.0).unwrap();
         assert!(warning.contains("too coarse"), "{warning}");
+    }
+
+    /// A Wigley midship section (half-beam 1, draft 0.625) through `per_side` points on each
+    /// side, keel point shared, with sway, heave and roll.
+    fn wigley_section(per_side: usize) -> Hull {
+        let mut text =
+            String::from("<hull name=\"wigley\" half_beam=\"1\">\n<contour closed=\"false\">\n");
+        let draft = 0.625;
+        let side = |k: usize| {
+            let z = draft * k as f64 / (per_side - 1) as f64;
+            (1.0 - (z / draft).powi(2), -z)
+        };
+        for k in 0..per_side {
+            let (x, y) = side(k);
+            text.push_str(&format!("<point x=\"{}\" y=\"{y}\"/>\n", -x));
+        }
+        for k in (0..per_side - 1).rev() {
+            let (x, y) = side(k);
+            text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>\n"));
+        }
+        text.push_str("</contour>\n<rigid name=\"sway\" kind=\"sway\"/>\n");
+        text.push_str("<rigid name=\"heave\" kind=\"heave\"/>\n");
+        text.push_str("<rigid name=\"roll\" kind=\"roll\"/>\n</hull>\n");
+        Hull::from_xml_str(&text, "wigley.xml").unwrap()
+    }
+
+    fn is_node(mesh: &Mesh, p: Point) -> bool {
+        mesh.body
+            .iter()
+            .any(|q| (q.start[0] - p[0]).abs() < 1e-12 && (q.start[1] - p[1]).abs() < 1e-12)
+            || mesh.body.last().is_some_and(|q| q.end == p)
+    }
+
+    #[test]
+    fn a_symmetric_section_is_meshed_symmetrically_at_every_count() {
+        for per_side in [5, 9, 33] {
+            let hull = wigley_section(per_side);
+            for panels in [16, 17, 32, 64, 128] {
+                let params = PanelParams {
+                    body_panels: panels,
+                    ..Default::default()
+                };
+                let mesh = discretize(&hull, &params).unwrap();
+                assert_eq!(mesh.mirror_axis, Some(0.0));
+                let n = mesh.body.len();
+                for (a, b) in mesh.body.iter().zip(mesh.body.iter().rev()) {
+                    // Bit for bit: panel l's start mirrors panel n-1-l's end.
+                    assert_eq!(a.start[0], -b.end[0], "{per_side} points, {panels} panels");
+                    assert_eq!(a.start[1], b.end[1]);
+                }
+                assert_eq!(n, panels);
+                let lid = &mesh.lid;
+                for (a, b) in lid.iter().zip(lid.iter().rev()) {
+                    assert_eq!(a.start[0], -b.end[0]);
+                }
+                // 2 (per_side - 1) - 1 interior vertices; a free node for each while they fit.
+                let vertices = 2 * (per_side - 1) - 1;
+                let expected = vertices.saturating_sub(panels - 1 - usize::from(panels % 2 == 1));
+                if panels % 2 == 1 {
+                    // The keel vertex lies on the axis, inside the middle panel.
+                    assert!(mesh.dropped_vertices >= 1);
+                } else if panels >= 2 * per_side {
+                    assert_eq!(
+                        mesh.dropped_vertices, 0,
+                        "{per_side} points, {panels} panels"
+                    );
+                } else {
+                    assert!(
+                        mesh.dropped_vertices >= expected,
+                        "{}",
+                        mesh.dropped_vertices
+                    );
+                }
+                if mesh.dropped_vertices == 0 {
+                    for k in 0..2 * per_side - 1 {
+                        assert!(
+                            is_node(&mesh, hull.point(hull.breakpoints()[k])),
+                            "vertex {k}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn vertices_close_together_all_become_nodes() {
+        // Two vertices 1e-3 apart on a box's bottom: the old nearest-node snapping gave both
+        // the same node and kept the later one.
+        let text = r#"<hull name="b" half_beam="1"><contour closed="false">
+            <point x="-1" y="0"/><point x="-1" y="-1"/><point x="0.3" y="-1"/>
+            <point x="0.301" y="-1"/><point x="1" y="-1"/><point x="1" y="0"/>
+            </contour><rigid name="heave" kind="heave"/></hull>"#;
+        let hull = Hull::from_xml_str(text, "b.xml").unwrap();
+        for panels in [8, 16, 64] {
+            let mesh = discretize(
+                &hull,
+                &PanelParams {
+                    body_panels: panels,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(mesh.dropped_vertices, 0);
+            assert_eq!(mesh.mirror_axis, None);
+            for &b in &hull.breakpoints() {
+                assert!(
+                    is_node(&mesh, hull.point(b)),
+                    "{panels} panels, vertex at {b}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn too_many_vertices_keep_the_sharpest_corners() {
+        // A box (two corners) with 40 collinear vertices on each side: at 8 panels only the
+        // corners are kept, the collinear points (no turning) left out and counted.
+        let mut text = String::from(r#"<hull name="b" half_beam="1"><contour closed="false">"#);
+        let mut points = Vec::new();
+        for k in 0..=40 {
+            points.push((-1.0, -(k as f64) / 40.0));
+        }
+        for k in 1..40 {
+            points.push((-1.0 + 2.0 * k as f64 / 40.0, -1.0));
+        }
+        for k in (0..=40).rev() {
+            points.push((1.0, -(k as f64) / 40.0));
+        }
+        for (x, y) in &points {
+            text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>"));
+        }
+        text.push_str(r#"</contour><rigid name="heave" kind="heave"/></hull>"#);
+        let hull = Hull::from_xml_str(&text, "b.xml").unwrap();
+        let mesh = discretize(
+            &hull,
+            &PanelParams {
+                body_panels: 8,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(mesh.dropped_vertices, points.len() - 2 - 7);
+        assert!(is_node(&mesh, [-1.0, -1.0]) && is_node(&mesh, [1.0, -1.0]));
+        assert_eq!(mesh.mirror_axis, Some(0.0));
     }
 }

@@ -293,6 +293,26 @@ impl Solver {
         self.problems[0].mesh()
     }
 
+    /// A warning when a level's mesh leaves contour vertices out (more vertices than its
+    /// panels hold, [`Mesh::dropped_vertices`]): the counts per level, else `None`.
+    pub fn dropped_vertices_warning(&self) -> Option<String> {
+        let levels: Vec<String> = self
+            .problems
+            .iter()
+            .map(|p| p.mesh())
+            .filter(|m| m.dropped_vertices > 0)
+            .map(|m| format!("{} at {} panels", m.dropped_vertices, m.body.len()))
+            .collect();
+        (!levels.is_empty()).then(|| {
+            format!(
+                "contour vertices left out of the mesh (more vertices than panels; those where \
+                 the contour turns least are cut along chords): {}; raise the panel count to keep \
+                 them all",
+                levels.join(", ")
+            )
+        })
+    }
+
     /// The long-wave limit of the exciting force per `rho g a`, `integral_C n_j ds` for every
     /// DOF (the net flux), extrapolated over the levels like the solves.
     pub fn long_wave_excitation(&self) -> Vec<f64> {
@@ -769,6 +789,7 @@ pub fn run(
     if let Some((_, warning)) = coarse {
         result.warnings.push(warning);
     }
+    result.warnings.extend(solver.dropped_vertices_warning());
     Ok(result)
 }
 

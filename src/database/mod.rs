@@ -199,9 +199,7 @@ impl Database {
             stiffness_hydrostatic: DMatrix::from_fn(n, n, |i, j| {
                 self.stiffness_hydrostatic[(index[i], index[j])]
             }),
-            noise: DMatrix::from_fn(n, n, |i, j| {
-                self.noise[(index[i], index[j])]
-            }),
+            noise: DMatrix::from_fn(n, n, |i, j| self.noise[(index[i], index[j])]),
             dof_units: index.iter().map(|&i| self.dof_units[i].clone()).collect(),
             ..self.clone()
         })

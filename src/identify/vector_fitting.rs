@@ -972,7 +972,7 @@ fn enforce(
 ) -> (DMatrix<f64>, Enforcement) {
     use crate::numerics::{lmi_least_squares, MatrixInequalities};
 
-    let (a, rhs) = problem.residue_system(&poles);
+    let (a, rhs) = problem.residue_system(poles);
     let basis_size = a.ncols();
     let free = least_squares(&a, &rhs);
     let free_error = problem.max_error(&a, &rhs, &free);
@@ -1033,7 +1033,7 @@ fn enforce(
                 .collect();
         }
         let mut row = Vec::new();
-        basis_row(&poles, Complex64::new(0.0, w), &mut row);
+        basis_row(poles, Complex64::new(0.0, w), &mut row);
         row.iter()
             .map(|phi| (Complex64::new(0.0, w) * phi).re)
             .collect()
@@ -1080,7 +1080,7 @@ fn enforce(
     let tolerance = 1e-9;
     loop {
         let x = from_scaled(&shifted);
-        let model = problem.model(&poles, &x, 0.0, true);
+        let model = problem.model(poles, &x, 0.0, true);
         let report = model.passivity(tolerance);
         if report.passive {
             passive = true;

@@ -100,7 +100,11 @@ fn project_entries(n: usize, pairs: &[(usize, usize)], values: &mut [f64], delta
                 if norm2 == 0.0 {
                     (high, 0.0, high)
                 } else {
-                    (high * vx * vx / norm2, high * vx * vy / norm2, high * vy * vy / norm2)
+                    (
+                        high * vx * vx / norm2,
+                        high * vx * vy / norm2,
+                        high * vy * vy / norm2,
+                    )
                 }
             };
             values[ia] = pa + delta;

@@ -108,7 +108,10 @@ mod tests {
     fn finds_the_rosenbrock_minimum() {
         let mut f = |x: &[f64]| (1.0 - x[0]).powi(2) + 100.0 * (x[1] - x[0] * x[0]).powi(2);
         let m = nelder_mead(&mut f, &[-1.2, 1.0], 0.5, 1e-14, 2000);
-        assert!((m.x[0] - 1.0).abs() < 1e-4 && (m.x[1] - 1.0).abs() < 1e-4, "{m:?}");
+        assert!(
+            (m.x[0] - 1.0).abs() < 1e-4 && (m.x[1] - 1.0).abs() < 1e-4,
+            "{m:?}"
+        );
         assert!(m.evaluations <= 2000);
     }
 

@@ -567,6 +567,13 @@ pub fn run(
     if let Some(w) = coarse {
         result.warnings.push(w);
     }
+    for (k, solver) in solvers.iter().enumerate() {
+        if let Some(w) = solver.dropped_vertices_warning() {
+            result
+                .warnings
+                .push(format!("the section first at x = {} m: {w}", first_x(k)));
+        }
+    }
     Ok(result)
 }
 
