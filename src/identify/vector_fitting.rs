@@ -743,7 +743,7 @@ impl Blocks {
     /// Moves the poles of `fit` (block `b`) to lower the error of the passive fit: the
     /// relocation places them for the free fit, and where the passivity constraints bind
     /// (data whose damping vanishes in the band, as a submerged body's at high frequency)
-    /// other poles fit better under them. Nelder-Mead ([`crate::numerics::nelder_mead`]) over
+    /// other poles fit better under them. Nelder-Mead (`src/numerics/nelder_mead.rs`) over
     /// the logarithms of each pole's decay rate and frequency, each candidate's residues
     /// enforced passive as in [`Blocks::fit`], at most `evaluations` enforcements. Returns
     /// the better of `fit` and the refined fit.
