@@ -470,16 +470,18 @@ def test_without_a_lid_the_irregular_frequency_is_found_and_kept_out_of_the_fit(
     assert not [x for x in clean.stdout.splitlines() if x.startswith("left out:")], clean.stdout
     # Kept in (--plain), the spike wrecks the fit (measured 35 %); left out, the rest of the
     # irregular frequency's broad influence (a few % at 2.0 .. 2.5 rad/s on this coarse mesh)
-    # still misses the 1 % tolerance. The same influence makes A~_ij and A~_ji differ by more
-    # than the tolerance (sway-roll, 3.25 % of sqrt(s_i s_j)): the report judges the fit
-    # against that noise floor and says so; a band below 1.95 rad/s meets 1 % (0.8 %).
+    # makes A~_ij and A~_ji differ by more than the tolerance (sway-roll, 3.25 % of
+    # sqrt(s_i s_j)): the report judges the fit against that noise floor and says so. The fit
+    # itself now reaches 0.956 % with 59 states (poles refined under the passivity
+    # constraints; before 1.4 %); a band below 1.95 rad/s meets 1 % (0.8 %).
     kept = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1", "--plain")
     assert fit_error(kept.stdout) > 0.10, kept.stdout
     floor = [x for x in r.stdout.splitlines() if x.startswith("note: the data's own noise")]
     assert len(floor) == 1, r.stdout
     verdict = next(x for x in r.stdout.splitlines() if x.startswith("largest error"))
     tolerance = float(verdict.split("(tolerance ")[1].split()[0]) / 100
-    assert 0.01 < fit_error(r.stdout) <= tolerance < 0.04 and "met)" in verdict, r.stdout
+    assert 0.032 < tolerance < 0.033, verdict
+    assert fit_error(r.stdout) <= tolerance and "met)" in verdict, r.stdout
     below = fmu_pack(fmu_pack_binary, "fit", without_lid / "box.1", "--band", "0.2:1.95rad/s")
     assert fit_error(below.stdout) < 0.01, below.stdout
 
