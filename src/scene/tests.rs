@@ -105,11 +105,28 @@ fn report_states_the_error_out_of_band_and_the_left_out_dofs() {
     let full = response.full.as_ref().expect("the full response is kept");
     assert_eq!(full.dof_count(), 9);
     let fit = built.fit(&response).unwrap();
-    assert_eq!(fit.network.form, NetworkForm::SeriesChain);
-    // The small scene's 5 band points: the one note says what the network assumes between them.
-    assert_eq!(fit.notes.len(), 1, "{:?}", fit.notes);
+    // One DOF: the chain or a one-DOF rational fit, whichever meets the tolerance with fewer
+    // states (the rational one here, 2026-11-27; the automatic form's note says so).
     assert!(
-        fit.notes[0].starts_with("only 5 frequencies"),
+        matches!(
+            fit.network.form,
+            NetworkForm::SeriesChain | NetworkForm::Coupled
+        ),
+        "{:?}",
+        fit.network.form
+    );
+    if fit.network.form != NetworkForm::SeriesChain {
+        assert!(
+            fit.notes.iter().any(|n| n.starts_with("automatic form")),
+            "{:?}",
+            fit.notes
+        );
+    }
+    // The small scene's 5 band points: a note says what the network assumes between them.
+    assert!(
+        fit.notes
+            .iter()
+            .any(|n| n.starts_with("only 5 frequencies")),
         "{:?}",
         fit.notes
     );
