@@ -392,8 +392,8 @@ fn place_vertices(
 
 /// The mirror axis `x = x_c` of a contour symmetric about a vertical line, in node parameters
 /// `t`: `point(1 - t)` is the mirror image of `point(t)` (to 1e-9 of the contour's size) at
-/// every vertex and at 64 points between, and the vertices come in mirrored pairs. `None`
-/// for an asymmetric contour.
+/// every vertex and at 64 points between, and the vertices (ascending) come in mirrored
+/// pairs. `None` for an asymmetric contour.
 fn mirror_axis(point: &dyn Fn(f64) -> Point, vertices: &[f64], size: f64) -> Option<f64> {
     let (a, b) = (point(0.0), point(1.0));
     let axis = 0.5 * (a[0] + b[0]);
@@ -402,9 +402,11 @@ fn mirror_axis(point: &dyn Fn(f64) -> Point, vertices: &[f64], size: f64) -> Opt
         let (p, q) = (point(t), point(1.0 - t));
         (p[0] + q[0] - 2.0 * axis).abs() <= tolerance && (p[1] - q[1]).abs() <= tolerance
     };
+    // Sorted vertices pair up from both ends.
     let paired = vertices
         .iter()
-        .all(|&v| vertices.iter().any(|&w| (v + w - 1.0).abs() <= 1e-9));
+        .zip(vertices.iter().rev())
+        .all(|(&v, &w)| (v + w - 1.0).abs() <= 1e-9);
     let samples = (0..=64).map(|i| i as f64 / 128.0);
     (paired && vertices.iter().copied().chain(samples).all(mirrored)).then_some(axis)
 }
