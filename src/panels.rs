@@ -502,48 +502,36 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
     let size = hull.contour_length();
     let axis = mirror_axis(&point, &vertices, size);
     let count = params.body_panels;
+    let turning = turning_angles(&point, &vertices);
     let dropped_vertices = if axis.is_some() {
         // One half, mirrored: nodes t and 1 - t. An even count has the node 1/2; an odd one
-        // a middle panel across it.
+        // a middle panel across it, which holds a vertex on the axis inside it.
         let half = count / 2;
-        if count % 2 == 0 {
+        // The vertices below 1/2 (ascending: a prefix).
+        let below = vertices.partition_point(|&v| v < 0.5 - 1e-12);
+        let on_axis = vertices.get(below).is_some_and(|&v| v <= 0.5 + 1e-12);
+        let dropped_in_half = if count % 2 == 0 {
             nodes[half] = 0.5;
-        }
-        let inside: Vec<f64> = vertices
-            .iter()
-            .copied()
-            .filter(|&v| v < 0.5 - 1e-12)
-            .collect();
-        let turning = turning_angles(&point, &vertices);
-        let turning: Vec<f64> = vertices
-            .iter()
-            .zip(&turning)
-            .filter(|(v, _)| **v < 0.5 - 1e-12)
-            .map(|(_, a)| *a)
-            .collect();
-        let on_axis = vertices.iter().any(|&v| (v - 0.5).abs() <= 1e-12);
-        let mut dropped = if count % 2 == 0 {
-            place_vertices(&mut nodes, 0, half, &inside, &turning)
+            place_vertices(&mut nodes, 0, half, &vertices[..below], &turning[..below])
         } else {
-            // The middle panel's first node stays below 1/2.
-            let dropped = place_vertices(&mut nodes, 0, half + 1, &inside, &turning);
+            let dropped = place_vertices(
+                &mut nodes,
+                0,
+                half + 1,
+                &vertices[..below],
+                &turning[..below],
+            );
             if nodes[half] >= 0.5 {
                 // Not a vertex (those lie below 1/2): moved below the axis.
                 nodes[half] = 0.5 * (nodes[half - 1] + 0.5);
             }
-            dropped + usize::from(on_axis)
+            dropped
         };
         for i in 0..count.div_ceil(2) {
             nodes[count - i] = 1.0 - nodes[i];
         }
-        dropped *= 2;
-        if count % 2 == 1 {
-            // The axis vertex counted once.
-            dropped -= usize::from(on_axis);
-        }
-        dropped
+        2 * dropped_in_half + usize::from(on_axis && count % 2 == 1)
     } else {
-        let turning = turning_angles(&point, &vertices);
         place_vertices(&mut nodes, 0, count, &vertices, &turning)
     };
     if closed {
@@ -722,24 +710,7 @@ mod tests {
     /// A Wigley midship section (half-beam 1, draft 0.625) through `per_side` points on each
     /// side, keel point shared, with sway, heave and roll.
     fn wigley_section(per_side: usize) -> Hull {
-        let mut text =
-            String::from("<hull name=\"wigley\" half_beam=\"1\">\n<contour closed=\"false\">\n");
-        let draft = 0.625;
-        let side = |k: usize| {
-            let z = draft * k as f64 / (per_side - 1) as f64;
-            (1.0 - (z / draft).powi(2), -z)
-        };
-        for k in 0..per_side {
-            let (x, y) = side(k);
-            text.push_str(&format!("<point x=\"{}\" y=\"{y}\"/>\n", -x));
-        }
-        for k in (0..per_side - 1).rev() {
-            let (x, y) = side(k);
-            text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>\n"));
-        }
-        text.push_str("</contour>\n<rigid name=\"sway\" kind=\"sway\"/>\n");
-        text.push_str("<rigid name=\"heave\" kind=\"heave\"/>\n");
-        text.push_str("<rigid name=\"roll\" kind=\"roll\"/>\n</hull>\n");
+        let text = crate::hull::wigley_section_xml("wigley", 1.0, 0.625, per_side);
         Hull::from_xml_str(&text, "wigley.xml").unwrap()
     }
 

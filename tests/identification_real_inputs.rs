@@ -14,16 +14,21 @@ use std::path::Path;
 mod common;
 use common::assert_passive_and_forgets_a_pulse;
 
-/// The scene's default fit of a hull file in `examples/hulls` (all DOFs, kR 0.05 .. 5).
-fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/hulls")
-        .join(file);
-    let built = Scene::new(Hull::from_file(&path).unwrap()).build().unwrap();
+/// The scene's default fit of a hull (all DOFs, kR 0.05 .. 5).
+fn scene_fit(hull: Hull) -> (FrequencyResponse, FitReport) {
+    let built = Scene::new(hull).build().unwrap();
     let sweep = built.sweep(&|_, _| {}).unwrap();
     let response = built.response(&sweep).unwrap();
     let fit = built.fit(&response).unwrap();
     (response.fitted, fit)
+}
+
+/// [`scene_fit`] of a hull file in `examples/hulls`.
+fn section_fit(file: &str) -> (FrequencyResponse, FitReport) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/hulls")
+        .join(file);
+    scene_fit(Hull::from_file(&path).unwrap())
 }
 
 /// The midship section (6 DOFs: sway, heave, roll and three plating modes). Before: 6 states
@@ -106,10 +111,7 @@ fn seven_frequencies_are_fitted_with_fewer_poles_than_points() {
 /// under the constraints), and a note naming the refined blocks.
 #[test]
 fn a_submerged_circle_meets_the_tolerance_with_a_vector_fits_states() {
-    let built = Scene::new(Hull::circle(1.0, 1.5).unwrap()).build().unwrap();
-    let sweep = built.sweep(&|_, _| {}).unwrap();
-    let response = built.response(&sweep).unwrap();
-    let fit = built.fit(&response).unwrap();
+    let (_, fit) = scene_fit(Hull::circle(1.0, 1.5).unwrap());
     eprintln!(
         "circle: {} states, {:.3} %, notes {:?}",
         fit.states,

@@ -544,5 +544,33 @@ fn lerp(a: Point, b: Point, t: f64) -> Point {
     [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
 }
 
+/// Hull-file text of a Wigley section (tests): half-breadth `b (1 - (z / T)^2)` through
+/// `per_side` points on each side, keel point shared, with the DOFs `sway heave roll`.
+#[cfg(test)]
+pub(crate) fn wigley_section_xml(
+    name: &str,
+    half_beam: f64,
+    draft: f64,
+    per_side: usize,
+) -> String {
+    let side = |k: usize| {
+        let z = draft * k as f64 / (per_side - 1) as f64;
+        (half_beam * (1.0 - (z / draft).powi(2)), -z)
+    };
+    let mut text =
+        format!("<hull name=\"{name}\" half_beam=\"{half_beam}\"><contour closed=\"false\">");
+    // The port side down to the keel, then starboard back up.
+    for (i, k) in (0..per_side).chain((0..per_side - 1).rev()).enumerate() {
+        let (x, y) = side(k);
+        let x = if i < per_side { -x } else { x };
+        text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>"));
+    }
+    text.push_str("</contour><rigid name=\"sway\" kind=\"sway\"/>");
+    text.push_str(
+        "<rigid name=\"heave\" kind=\"heave\"/><rigid name=\"roll\" kind=\"roll\"/></hull>",
+    );
+    text
+}
+
 #[cfg(test)]
 mod tests;

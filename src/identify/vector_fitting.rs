@@ -545,6 +545,8 @@ pub fn vector_fit(
 pub struct Enforcement {
     /// The free fit's largest normalized error (before the constraints).
     pub free_error: f64,
+    /// The largest normalized error of the residues returned.
+    pub error: f64,
     /// Constrained solves (each after an exact check that failed; the first on the log grid,
     /// each later one with the violations the check found added).
     pub rounds: usize,
@@ -584,9 +586,10 @@ pub fn passive_vector_fit(
     let problem = Problem::new(response, params)?;
     let poles = problem.poles(params);
     let (x, enforcement) = enforce(&problem, &poles, params);
-    let (a, rhs) = problem.residue_system(&poles);
-    let error = problem.max_error(&a, &rhs, &x);
-    Ok((problem.model(&poles, &x, error, false), enforcement))
+    Ok((
+        problem.model(&poles, &x, enforcement.error, false),
+        enforcement,
+    ))
 }
 
 /// [`passive_vector_fit`] block by block: the normalized data is reduced to the subspace its
@@ -784,13 +787,12 @@ impl Blocks {
                 .collect()
         };
         let mut objective = |v: &[f64]| {
-            let poles = poles_of(v);
-            let (x, enforcement) = enforce(sub, &poles, params);
-            if !enforcement.passive {
-                return f64::INFINITY;
+            let (_, enforcement) = enforce(sub, &poles_of(v), params);
+            if enforcement.passive {
+                enforcement.error
+            } else {
+                f64::INFINITY
             }
-            let (a, rhs) = sub.residue_system(&poles);
-            sub.max_error(&a, &rhs, &x)
         };
         let minimum = crate::numerics::nelder_mead(
             &mut objective,
@@ -1160,10 +1162,13 @@ fn enforce(
             shifted.column_mut(e).axpy(step, &raise, 1.0);
         }
     }
+    let x = from_scaled(&shifted);
+    let error = problem.max_error(&a, &rhs, &x);
     (
-        from_scaled(&shifted),
+        x,
         Enforcement {
             free_error,
+            error,
             rounds,
             samples: frequencies.len(),
             iterations,

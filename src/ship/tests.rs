@@ -538,21 +538,7 @@ fn a_symmetric_ship_feels_no_transverse_force_in_head_seas() {
         .enumerate()
     {
         let half_beam = 2.0 * (1.0 - (x / 22.0).powi(2));
-        let side = |i: usize| {
-            let z = draft * i as f64 / (per_side - 1) as f64;
-            (half_beam * (1.0 - (z / draft).powi(2)), -z)
-        };
-        let mut hull =
-            format!("<hull name=\"s{k}\" half_beam=\"{half_beam}\"><contour closed=\"false\">");
-        for i in 0..per_side {
-            let (b, z) = side(i);
-            hull.push_str(&format!("<point x=\"{}\" y=\"{z}\"/>", -b));
-        }
-        for i in (0..per_side - 1).rev() {
-            let (b, z) = side(i);
-            hull.push_str(&format!("<point x=\"{b}\" y=\"{z}\"/>"));
-        }
-        hull.push_str("</contour><rigid name=\"sway\" kind=\"sway\"/></hull>");
+        let hull = crate::hull::wigley_section_xml(&format!("s{k}"), half_beam, draft, per_side);
         std::fs::write(folder.join(format!("s{k}.xml")), hull).unwrap();
         ship_text.push_str(&format!(
             "<station x=\"{x}\"><hull file=\"s{k}.xml\"/></station>\n"
