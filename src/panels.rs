@@ -52,6 +52,13 @@ pub struct PanelParams {
     /// the lid only has to remove the interior resonances; finer lids cost time without
     /// changing the result beyond the discretization error (docs/VALIDATION.md).
     pub lid_density: f64,
+    /// The panel count whose room decides which contour vertices become nodes. Default
+    /// `None`: this mesh's own count. Where all vertices fit, all become nodes; where not,
+    /// only the corners (turning more than [`CORNER_ANGLE`]) do, and the smooth vertices lie
+    /// between nodes (a finely described smooth contour is meshed like a smooth curve). A
+    /// solver meshing several levels passes its coarsest count, so that every level keeps
+    /// the same vertices and the extrapolation sees one geometry converging smoothly.
+    pub vertex_budget: Option<usize>,
 }
 
 impl Default for PanelParams {
@@ -60,6 +67,7 @@ impl Default for PanelParams {
             body_panels: 128,
             clustering: 0.5,
             lid_density: 0.5,
+            vertex_budget: None,
         }
     }
 }
@@ -95,6 +103,12 @@ impl PanelParams {
         params
     }
 }
+
+/// A contour vertex turning more than this (radians, 20 degrees) is a corner: it stays a panel
+/// node where smooth vertices do not fit ([`PanelParams::vertex_budget`]). A smooth curve
+/// described by points turns far less per point (a Wigley section with 33 points per side
+/// about 3 degrees); a box's chine turns 90.
+pub const CORNER_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
 
 /// Largest panel length at the top of a submerged contour, as a fraction of its gap to the
 /// free surface, in [`PanelParams::for_hull`].
@@ -163,9 +177,13 @@ pub struct Mesh {
     /// `x` of the vertical line the mesh is mirror-symmetric about (exactly: one half's
     /// nodes mirrored), for a symmetric contour; `None` for an asymmetric one.
     pub mirror_axis: Option<f64>,
-    /// Contour vertices that are not panel nodes (more vertices than the panel count holds;
+    /// Contour corners that are not panel nodes (more corners than the panel count holds;
     /// those where the contour turns least are left out, cut along a chord).
     pub dropped_vertices: usize,
+    /// Smooth contour vertices (turning less than [`CORNER_ANGLE`]) left between nodes because
+    /// not all vertices fit ([`PanelParams::vertex_budget`]): the nodes lie on the contour
+    /// between them, as on a smooth curve.
+    pub smooth_vertices_between_nodes: usize,
 }
 
 impl Mesh {
@@ -324,6 +342,66 @@ fn nodes_toward_the_surface(count: usize, clustering: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The contour parameter of node position `t` in [0, 1]: a closed contour's nodes start at
+/// `offset` (opposite its top).
+fn contour_parameter(closed: bool, offset: f64, t: f64) -> f64 {
+    let s = t + offset;
+    if closed && s >= 1.0 {
+        s - 1.0
+    } else {
+        s
+    }
+}
+
+/// The node-position offset of `hull` (see [`contour_parameter`]) and its vertices as node
+/// positions strictly inside (0, 1), ascending (the ends are nodes already).
+fn contour_vertices(hull: &Hull) -> (f64, Vec<f64>) {
+    let closed = hull.is_closed();
+    let offset = if closed {
+        (highest_parameter(hull) + 0.5).fract()
+    } else {
+        0.0
+    };
+    let breakpoints = hull.breakpoints();
+    // Built-in closed contours are smooth: their parameter ends 0 and 1 are no corners.
+    if closed && breakpoints.len() <= 2 {
+        return (offset, Vec::new());
+    }
+    let mut vertices: Vec<f64> = breakpoints
+        .iter()
+        .map(|b| {
+            if closed {
+                (b - offset).rem_euclid(1.0)
+            } else {
+                *b
+            }
+        })
+        .filter(|&c| c > 1e-12 && c < 1.0 - 1e-12)
+        .collect();
+    vertices.sort_by(f64::total_cmp);
+    vertices.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+    (offset, vertices)
+}
+
+/// The number of corners of `hull`'s contour (vertices turning more than [`CORNER_ANGLE`])
+/// off its mirror axis. A keel on the axis of a symmetric contour is a node of every mesh of
+/// an even panel count, the same point at every extrapolation level, and does not disturb the
+/// extrapolation (a hull-file Wigley, keel corners of 46 to 146 degrees: 64 panels and 3
+/// levels within 0.19 % of 256 panels, docs/SHIPS.md); corners elsewhere (a box's chines) do.
+/// A contour without any (a built-in form, or a hull file describing a smooth curve by points)
+/// is meshed like a smooth curve where its points outnumber the nodes.
+pub fn off_axis_corner_count(hull: &Hull) -> usize {
+    let (offset, vertices) = contour_vertices(hull);
+    let closed = hull.is_closed();
+    let point = |t: f64| hull.point(contour_parameter(closed, offset, t));
+    let symmetric = mirror_axis(&point, &vertices, hull.contour_length()).is_some();
+    vertices
+        .iter()
+        .zip(turning_angles(&point, &vertices))
+        .filter(|&(&v, a)| a > CORNER_ANGLE && !(symmetric && (v - 0.5).abs() <= 1e-12))
+        .count()
+}
+
 /// Places contour vertices (`vertices`, node parameters strictly inside
 /// `(nodes[lo], nodes[hi])`, ascending) onto nodes `lo + 1 .. hi - 1`, keeping `nodes[lo]`
 /// and `nodes[hi]`. Each vertex takes the node its position has in the original spacing
@@ -390,6 +468,23 @@ fn place_vertices(
     dropped
 }
 
+/// Whether `vertices` (interior node parameters, ascending) all become nodes of a mesh of
+/// `count` panels: the free nodes of [`discretize`]'s placement (one half's for a symmetric
+/// contour).
+fn vertices_fit(vertices: &[f64], symmetric: bool, count: usize) -> bool {
+    if symmetric {
+        let below = vertices.partition_point(|&v| v < 0.5 - 1e-12);
+        let free = if count % 2 == 0 {
+            count / 2 - 1
+        } else {
+            count / 2
+        };
+        below <= free
+    } else {
+        vertices.len() < count
+    }
+}
+
 /// The mirror axis `x = x_c` of a contour symmetric about a vertical line, in node parameters
 /// `t`: `point(1 - t)` is the mirror image of `point(t)` (to 1e-9 of the contour's size) at
 /// every vertex and at 64 points between, and the vertices (ascending) come in mirrored
@@ -452,57 +547,32 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         return Err(PanelError::LidDensity(params.lid_density));
     }
     let closed = hull.is_closed();
-    // Node positions t are monotone in [0, 1]; `parameter(t)` is the contour parameter.
-    let offset = if closed {
-        (highest_parameter(hull) + 0.5).fract()
-    } else {
-        0.0
-    };
-    let parameter = |t: f64| {
-        let s = t + offset;
-        if closed && s >= 1.0 {
-            s - 1.0
-        } else {
-            s
-        }
-    };
+    let (offset, vertices) = contour_vertices(hull);
+    let parameter = |t: f64| contour_parameter(closed, offset, t);
     let mut nodes = if closed {
         nodes_toward_the_surface(params.body_panels, params.clustering)
     } else {
         clustered_nodes(params.body_panels, params.clustering)
     };
-    let breakpoints = hull.breakpoints();
-    // Built-in closed contours are smooth: their parameter ends 0 and 1 are no corners.
-    let corners: Vec<f64> = if closed && breakpoints.len() <= 2 {
-        Vec::new()
-    } else {
-        breakpoints
-            .iter()
-            .map(|b| {
-                if closed {
-                    (b - offset).rem_euclid(1.0)
-                } else {
-                    *b
-                }
-            })
-            .collect()
-    };
-    // Vertices strictly inside (0, 1): the ends are nodes already.
-    let vertices: Vec<f64> = {
-        let mut v: Vec<f64> = corners
-            .iter()
-            .copied()
-            .filter(|&c| c > 1e-12 && c < 1.0 - 1e-12)
-            .collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
-        v
-    };
     let point = |t: f64| hull.point(parameter(t));
     let size = hull.contour_length();
     let axis = mirror_axis(&point, &vertices, size);
     let count = params.body_panels;
-    let turning = turning_angles(&point, &vertices);
+    let turning_all = turning_angles(&point, &vertices);
+    let vertex_count = turning_all.len();
+    // Where not every vertex fits the budget, only the corners are placed.
+    let budget = params.vertex_budget.unwrap_or(count).min(count);
+    let (vertices, turning) = if vertices_fit(&vertices, axis.is_some(), budget) {
+        (vertices, turning_all)
+    } else {
+        vertices
+            .iter()
+            .zip(&turning_all)
+            .filter(|(_, &angle)| angle > CORNER_ANGLE)
+            .map(|(&v, &a)| (v, a))
+            .unzip()
+    };
+    let smooth_vertices_between_nodes = vertex_count - vertices.len();
     let dropped_vertices = if axis.is_some() {
         // One half, mirrored: nodes t and 1 - t. An even count has the node 1/2; an odd one
         // a middle panel across it, which holds a vertex on the axis inside it.
@@ -541,7 +611,7 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
     if nodes.windows(2).any(|w| w[1] <= w[0]) {
         return Err(PanelError::UnresolvedCorners {
             panels: params.body_panels,
-            corners: breakpoints.len(),
+            corners: vertex_count,
         });
     }
     // Node points; a symmetric contour's second half is the first one's exact mirror image.
@@ -612,6 +682,7 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         reference_half_beam: hull.reference_half_beam(),
         mirror_axis: axis,
         dropped_vertices,
+        smooth_vertices_between_nodes,
     })
 }
 
@@ -743,25 +814,22 @@ mod tests {
                 for (a, b) in lid.iter().zip(lid.iter().rev()) {
                     assert_eq!(a.start[0], -b.end[0]);
                 }
-                // 2 (per_side - 1) - 1 interior vertices; a free node for each while they fit.
+                // 2 (per_side - 1) - 1 interior vertices; a free node for each while they fit,
+                // else the corners only (the keel on the axis; none of the sides' points turn
+                // more than CORNER_ANGLE) and the smooth ones between nodes.
                 let vertices = 2 * (per_side - 1) - 1;
-                let expected = vertices.saturating_sub(panels - 1 - usize::from(panels % 2 == 1));
+                let off_node = mesh.dropped_vertices + mesh.smooth_vertices_between_nodes;
                 if panels % 2 == 1 {
                     // The keel vertex lies on the axis, inside the middle panel.
-                    assert!(mesh.dropped_vertices >= 1);
-                } else if panels >= 2 * per_side {
-                    assert_eq!(
-                        mesh.dropped_vertices, 0,
-                        "{per_side} points, {panels} panels"
-                    );
+                    assert!(off_node >= 1);
+                } else if panels >= 2 * per_side - 2 {
+                    assert_eq!(off_node, 0, "{per_side} points, {panels} panels");
                 } else {
-                    assert!(
-                        mesh.dropped_vertices >= expected,
-                        "{}",
-                        mesh.dropped_vertices
-                    );
+                    assert_eq!(mesh.smooth_vertices_between_nodes, vertices - 1);
+                    assert_eq!(mesh.dropped_vertices, 0);
+                    assert!(is_node(&mesh, [0.0, -0.625]), "the keel");
                 }
-                if mesh.dropped_vertices == 0 {
+                if off_node == 0 {
                     for k in 0..2 * per_side - 1 {
                         assert!(
                             is_node(&mesh, hull.point(hull.breakpoints()[k])),
@@ -803,9 +871,9 @@ mod tests {
     }
 
     #[test]
-    fn too_many_vertices_keep_the_sharpest_corners() {
+    fn too_many_vertices_keep_the_corners() {
         // A box (two corners) with 40 collinear vertices on each side: at 8 panels only the
-        // corners are kept, the collinear points (no turning) left out and counted.
+        // corners are kept, the collinear points (no turning) lie between nodes, counted.
         let mut text = String::from(r#"<hull name="b" half_beam="1"><contour closed="false">"#);
         let mut points = Vec::new();
         for k in 0..=40 {
@@ -830,8 +898,59 @@ mod tests {
             },
         )
         .unwrap();
-        assert_eq!(mesh.dropped_vertices, points.len() - 2 - 7);
+        assert_eq!(mesh.smooth_vertices_between_nodes, points.len() - 2 - 2);
+        assert_eq!(mesh.dropped_vertices, 0);
         assert!(is_node(&mesh, [-1.0, -1.0]) && is_node(&mesh, [1.0, -1.0]));
         assert_eq!(mesh.mirror_axis, Some(0.0));
+    }
+
+    #[test]
+    fn more_corners_than_nodes_drop_the_least_turning_ones() {
+        // A staircase: 12 corners of 90 degrees, 8 panels hold 7 of them.
+        let mut text = String::from(r#"<hull name="s" half_beam="3"><contour closed="false">"#);
+        let mut x = -3.0;
+        let mut y = 0.0;
+        text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>"));
+        for _ in 0..6 {
+            y -= 0.5;
+            text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>"));
+            x += 1.0;
+            text.push_str(&format!("<point x=\"{x}\" y=\"{y}\"/>"));
+        }
+        text.push_str(r#"<point x="3" y="0"/></contour><rigid name="heave" kind="heave"/></hull>"#);
+        let hull = Hull::from_xml_str(&text, "s.xml").unwrap();
+        assert_eq!(off_axis_corner_count(&hull), 12);
+        let params = PanelParams {
+            body_panels: 8,
+            ..Default::default()
+        };
+        let mesh = discretize(&hull, &params).unwrap();
+        assert_eq!(mesh.dropped_vertices, 12 - 7);
+        assert_eq!(mesh.smooth_vertices_between_nodes, 0);
+    }
+
+    #[test]
+    fn a_vertex_budget_gives_every_level_the_same_vertices() {
+        let hull = wigley_section(9); // 15 interior vertices, the keel the only corner
+        assert_eq!(off_axis_corner_count(&hull), 0);
+        for panels in [8, 16, 32] {
+            let own = |budget| {
+                discretize(
+                    &hull,
+                    &PanelParams {
+                        body_panels: panels,
+                        vertex_budget: budget,
+                        ..Default::default()
+                    },
+                )
+                .unwrap()
+            };
+            // Alone, 16 and 32 panels hold every vertex (7 per side), 8 do not.
+            let alone = own(None);
+            let expected = if panels >= 16 { 0 } else { 14 };
+            assert_eq!(alone.smooth_vertices_between_nodes, expected, "{panels}");
+            // With the coarsest level's budget, every level leaves the same 14 off.
+            assert_eq!(own(Some(8)).smooth_vertices_between_nodes, 14, "{panels}");
+        }
     }
 }

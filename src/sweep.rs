@@ -260,8 +260,60 @@ pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError
 /// the first-order term, three levels also the second-order one; the coarser meshes add 1/4
 /// and 1/16 of the influence work of the fine one (measured wall time of the default sweep:
 /// 1.5 times the plain one, docs/PERFORMANCE.md).
+///
+/// # Irregular frequencies below a proven bound
+/// The interior lid ([`IrregularFrequencies::RemoveWithLid`]) costs unknowns at every
+/// frequency, but the interior problem it suppresses (Dirichlet on the contour,
+/// `d(phi)/dy = k phi` on the waterplane) has no eigenvalue below its first one, and that is at
+/// least the first one of any larger domain with the same waterplane: for a section inside the
+/// rectangle of its waterline beam `B` and draft `T`,
+///
+/// ```text
+/// k_1 >= (pi / B) coth(pi T / B)        (the rectangle's; the semicircle: 1.713/R < 1.818/R)
+/// ```
+///
+/// (extend an admissible interior potential by zero into the rectangle: the Rayleigh quotient
+/// `int |grad phi|^2 / int_lid phi^2` is unchanged). Below [`LID_FREE_FRACTION`] of that bound
+/// the wave solves of every level leave the lid out ([`Solver::lid_free_below`]).
 pub struct Solver {
     problems: Vec<Problem>,
+    lid_free_below: f64,
+}
+
+/// The fraction of the lower bound on the first irregular wavenumber below which a wave solve
+/// leaves the interior lid out (see [`Solver`]). Measured at 0.5 (the plain and the lid
+/// solutions, each extrapolated over 3 levels, against each other, as a fraction of the scale):
+/// the semicircle at 128 panels 3.7e-5 in `A~` and 3.2e-5 in the exciting force, at 64 panels
+/// 2.6e-4 and 3.6e-4; a hull-file Wigley section at 64 panels 2.4e-4 and 2.8e-4; a box at
+/// 128 panels and 2 levels 6.1e-5 and 1.9e-4. Against 1024 panels the plain semicircle at
+/// 128 panels is as accurate as the lid one there (3.5e-5 against 3.8e-5 at kR 0.5). Half the
+/// bound keeps clear of the first resonance, where the plain method's error grows (1.2e-4 in
+/// the force at 0.9 of the bound).
+pub const LID_FREE_FRACTION: f64 = 0.5;
+
+/// The wavenumber (1/m) below which `mesh`'s interior problem provably has no eigenvalue,
+/// times [`LID_FREE_FRACTION`]: see [`Solver`]. Zero for a mesh without a lid, or one reaching
+/// outside the vertical lines through its waterline points (no bound).
+fn lid_free_wavenumber(mesh: &Mesh) -> f64 {
+    let xs = mesh.lid.iter().flat_map(|p| [p.start[0], p.end[0]]);
+    let (left, right) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let beam = right - left;
+    if !(beam > 0.0 && beam.is_finite()) {
+        return 0.0;
+    }
+    let tolerance = 1e-9 * beam;
+    let nodes = || mesh.body.iter().flat_map(|p| [p.start, p.end]);
+    if nodes().any(|q| q[0] < left - tolerance || q[0] > right + tolerance) {
+        return 0.0;
+    }
+    let draft = nodes().map(|q| -q[1]).fold(0.0, f64::max);
+    if !(draft > 0.0 && draft.is_finite()) {
+        return 0.0;
+    }
+    let pi = std::f64::consts::PI;
+    LID_FREE_FRACTION * (pi / beam) / (pi * draft / beam).tanh()
 }
 
 impl Solver {
@@ -274,18 +326,33 @@ impl Solver {
     /// mesh is made).
     pub fn new(hull: &Hull, panels: &PanelParams, levels: usize) -> Result<Self, SweepError> {
         check_levels(panels, levels)?;
+        // Every level keeps the vertices the coarsest one has room for.
+        let coarsest = panels.body_panels >> (levels - 1);
         let problems = (0..levels)
             .map(|level| {
                 let count = panels.body_panels >> level;
                 let params = PanelParams {
                     body_panels: count,
+                    vertex_budget: Some(panels.vertex_budget.unwrap_or(coarsest).min(coarsest)),
                     ..*panels
                 };
                 let mesh = panels::discretize(hull, &params).map_err(SweepError::Mesh)?;
                 Problem::new(mesh).map_err(SweepError::Problem)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { problems })
+        // The finest mesh decides for every level, so that all levels solve one problem.
+        let lid_free_below = lid_free_wavenumber(problems[0].mesh());
+        Ok(Self {
+            problems,
+            lid_free_below,
+        })
+    }
+
+    /// The wavenumber (1/m) below which the wave solves leave the interior lid out, as the
+    /// first irregular frequency lies far above ([`LID_FREE_FRACTION`] of a proven lower bound,
+    /// see [`Solver`]); 0 where there is no lid or no bound.
+    pub fn lid_free_below(&self) -> f64 {
+        self.lid_free_below
     }
 
     /// The mesh of the requested panel count.
@@ -309,6 +376,22 @@ impl Solver {
                  the contour turns least are cut along chords): {}; raise the panel count to keep \
                  them all",
                 levels.join(", ")
+            )
+        })
+    }
+
+    /// A note when the contour's smooth vertices lie between panel nodes (more vertices than
+    /// the coarsest level holds, [`Mesh::smooth_vertices_between_nodes`]), else `None`.
+    pub fn smooth_vertices_note(&self) -> Option<String> {
+        let count = self.mesh().smooth_vertices_between_nodes;
+        (count > 0).then(|| {
+            format!(
+                "{count} smooth contour vertices (turning less than {} degrees) lie between panel \
+                 nodes at every level: more vertices than the coarsest level's {} panels hold, so \
+                 the contour is meshed as a smooth curve through them and every level sees the \
+                 same geometry; its corners stay nodes",
+                panels::CORNER_ANGLE.to_degrees().round(),
+                self.problems.last().map_or(0, |p| p.mesh().body.len())
             )
         })
     }
@@ -373,6 +456,12 @@ impl Solver {
         irregular: IrregularFrequencies,
         transverse: &[f64],
     ) -> Result<RadiationSolution, BemError> {
+        let irregular = match surface {
+            FreeSurface::Wave { wavenumber } if wavenumber < self.lid_free_below => {
+                IrregularFrequencies::Keep
+            }
+            _ => irregular,
+        };
         let mut solutions = Vec::with_capacity(self.problems.len());
         for problem in &self.problems {
             solutions.push(problem.solve_waves(surface, irregular, transverse)?);
@@ -623,6 +712,9 @@ pub struct SweepResult {
     pub failures: Vec<(f64, String)>,
     /// Physics sanity warnings (for example panels too coarse for the wavelength).
     pub warnings: Vec<String>,
+    /// Notes on choices made for this hull (for example smooth contour vertices meshed
+    /// between nodes).
+    pub notes: Vec<String>,
     /// Time per stage.
     pub times: StageTimes,
     /// Panel counts used: body, lid.
@@ -718,6 +810,7 @@ pub fn run(
         excitation_long_wave,
         failures: Vec::new(),
         warnings: Vec::new(),
+        notes: Vec::new(),
         times: StageTimes::default(),
         panel_counts: (mesh.body.len(), mesh.lid.len()),
     };
@@ -790,6 +883,7 @@ pub fn run(
         result.warnings.push(warning);
     }
     result.warnings.extend(solver.dropped_vertices_warning());
+    result.notes.extend(solver.smooth_vertices_note());
     Ok(result)
 }
 

@@ -274,3 +274,52 @@ fn irregular_frequencies_spike_without_removal_and_vanish_with_the_lid() {
         assert!(lid < 1e-4, "kR {centre}: spike left with the lid ({lid})");
     }
 }
+
+#[test]
+fn the_lid_is_left_out_only_far_below_the_first_irregular_frequency() {
+    // The bound (pi/B) coth(pi T/B) of the rectangle around the section, B = 2R, T = R:
+    // 1.7127/R, below the semicircle's first irregular kR 1.8182; half of it is lid-free.
+    let semicircle = solver(&Hull::semicircle(1.0).unwrap());
+    let bound = (PI / 2.0) / (PI / 2.0).tanh();
+    assert!((semicircle.lid_free_below() - 0.5 * bound).abs() < 1e-12);
+    assert!(bound < 1.8182);
+    // A closed contour has no lid; a section reaching beyond its waterline points no bound.
+    assert_eq!(
+        solver(&Hull::circle(1.0, 1.5).unwrap()).lid_free_below(),
+        0.0
+    );
+    let bulb = Hull::from_xml_str(
+        r#"<hull name="bulb" half_beam="1"><contour closed="false">
+           <point x="-1" y="0"/><point x="-1.3" y="-1"/><point x="1.3" y="-1"/>
+           <point x="1" y="0"/></contour><rigid name="heave" kind="heave"/></hull>"#,
+        "bulb.xml",
+    )
+    .unwrap();
+    assert_eq!(solver(&bulb).lid_free_below(), 0.0);
+    // Below it the solver's values are the plain method's (the lid is left out even when
+    // asked for), within 3e-5 of the largest |A~| of 512 panels at kR 0.8 (measured 1.87e-5).
+    let reference = Solver::new(
+        &Hull::semicircle(1.0).unwrap(),
+        &PanelParams {
+            body_panels: 512,
+            ..PanelParams::default()
+        },
+        3,
+    )
+    .unwrap();
+    let wave = FreeSurface::Wave { wavenumber: 0.8 };
+    let exact = reference
+        .solve(wave, IrregularFrequencies::Keep)
+        .unwrap()
+        .added_mass;
+    let scale = exact.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let solved = |irregular| semicircle.solve(wave, irregular).unwrap().added_mass;
+    let plain = solved(IrregularFrequencies::Keep);
+    assert_eq!(plain, solved(IrregularFrequencies::RemoveWithLid));
+    let error = (plain - &exact)
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+        / scale;
+    assert!(error < 3e-5, "{error:e}");
+}

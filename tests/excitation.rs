@@ -229,6 +229,56 @@ fn a_finely_described_symmetric_section_stays_symmetric() {
     }
 }
 
+#[test]
+fn a_finely_described_section_converges_like_a_smooth_curve() {
+    // 63 interior vertices: more than the coarse levels' nodes (64, 32, 16 panels). Every level
+    // keeps the same ones (the keel corner on the axis), the 62 smooth ones lie between nodes,
+    // so the levels see one geometry and the extrapolation converges; 256 panels (coarsest 64)
+    // keep them all. Keeping a different subset per level (the
+    // sharpest-turning vertices each level had room for) put a hull-file Wigley ship 37 % off
+    // in roll at 64 panels and 3 levels.
+    let hull = wigley_section();
+    let solver_at = |panels: usize| {
+        Solver::new(
+            &hull,
+            &PanelParams {
+                body_panels: panels,
+                ..PanelParams::default()
+            },
+            3,
+        )
+        .unwrap()
+    };
+    let (coarse, fine) = (solver_at(64), solver_at(256));
+    assert_eq!(coarse.mesh().smooth_vertices_between_nodes, 62);
+
+    assert_eq!(fine.mesh().smooth_vertices_between_nodes, 0);
+    let (mut worst_a, mut worst_x): (f64, f64) = (0.0, 0.0);
+    let kr = [0.2, 1.0, 2.0, 3.0, 4.95];
+    let solved: Vec<_> = kr
+        .iter()
+        .map(|&k| (solve(&coarse, k), solve(&fine, k)))
+        .collect();
+    let fine_forces: Vec<WaveForces> = solved.iter().map(|(_, f)| f.1.clone()).collect();
+    let largest_force = largest(&fine_forces);
+    for ((a, x), (a_ref, x_ref)) in &solved {
+        for i in 0..3 {
+            for j in 0..3 {
+                let scale = (a_ref[(i, i)].norm() * a_ref[(j, j)].norm()).sqrt();
+                worst_a = worst_a.max((a[(i, j)] - a_ref[(i, j)]).norm() / scale);
+            }
+            for h in 0..2 {
+                let d = (x.direct[(i, h)] - x_ref.direct[(i, h)]).norm() / largest_force[i];
+                worst_x = worst_x.max(d);
+            }
+        }
+    }
+    // Measured: A~ 0.39 % (heave, of sqrt(A_ii A_jj)), forces 0.12 % of the DOF's largest;
+    // the ship defaults promise 0.5 % (docs/SHIPS.md).
+    assert!(worst_a < 5e-3, "A~ {worst_a:e}");
+    assert!(worst_x < 2e-3, "X {worst_x:e}");
+}
+
 /// Pairs `omega sqrt(R/g), value` of a digitized Vugts curve.
 fn vugts(name: &str) -> Vec<(f64, f64)> {
     let path = format!(

@@ -115,6 +115,9 @@ pub fn build_network(scene: Scene) -> Result<Built, String> {
         .sweep(&|d, t| progress.update(d, t))
         .map_err(message)?;
     let sweep_time = start.elapsed();
+    for note in &sweep.notes {
+        crate::output::stderr_line(&format!("fmu-pack: note: {note}"));
+    }
     for warning in &sweep.warnings {
         crate::output::stderr_line(&format!("fmu-pack: warning: {warning}"));
     }

@@ -284,6 +284,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     if exports {
         write_section_exports(&hull, &result, args)?;
     }
+    for note in &result.notes {
+        output::stderr_line(&format!("note: {note}"));
+    }
     for warning in &result.warnings {
         output::stderr_line(&format!("warning: {warning}"));
     }

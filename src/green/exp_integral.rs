@@ -80,7 +80,7 @@ pub(super) fn scaled_ei(p: Complex64) -> ScaledEi {
 
 /// [`scaled_ei`] for `Im p >= +0`, where `F(-p) = -Q(p) + i pi e^{-p}`.
 fn scaled_ei_upper(p: Complex64) -> ScaledEi {
-    let exp = (-p).exp();
+    let exp = exp(-p);
     let i_pi_exp = Complex64::new(-PI * exp.im, PI * exp.re);
     let rho = match p.norm_sqr() {
         r2 if r2.is_finite() => r2.sqrt(),
@@ -104,7 +104,7 @@ fn scaled_ei_upper(p: Complex64) -> ScaledEi {
     // Cancellation in the series grows like e^{|p| - Re p}.
     let series = rho < FRACTION_RADIUS && rho - p.re <= SERIES_AXIS_DISTANCE;
     if series {
-        let ei = p.ln() + EULER_GAMMA + ei_series_sum(p);
+        let ei = ln(p) + EULER_GAMMA + ei_series_sum(p);
         return ScaledEi {
             q: exp * ei,
             f: i_pi_exp - exp * ei,
@@ -131,6 +131,30 @@ fn scaled_ei_upper(p: Complex64) -> ScaledEi {
             f,
             exp,
         }
+    }
+}
+
+/// `ln z` by `ln |z|^2 / 2` and one `atan2` (no `hypot`); `z.ln()` where `|z|^2` would
+/// overflow, underflow or is not finite.
+#[inline]
+pub(super) fn ln(z: Complex64) -> Complex64 {
+    let r2 = z.norm_sqr();
+    if r2.is_normal() && r2 < f64::MAX {
+        Complex64::new(0.5 * r2.ln(), z.im.atan2(z.re))
+    } else {
+        z.ln()
+    }
+}
+
+/// `e^z` with one `sin_cos`; `z.exp()` for non-finite `z`.
+#[inline]
+pub(super) fn exp(z: Complex64) -> Complex64 {
+    if z.re.is_finite() && z.im.is_finite() {
+        let (sin, cos) = z.im.sin_cos();
+        let r = z.re.exp();
+        Complex64::new(r * cos, r * sin)
+    } else {
+        z.exp()
     }
 }
 

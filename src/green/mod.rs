@@ -143,12 +143,19 @@ pub struct PanelIntegral {
 
 /// The free-surface Green function for one boundary condition (one frequency).
 ///
-/// Holds a table of `e^{-p} Ei(p)` (about 23 kB, filled for `Wave` only); pass it by
-/// reference in hot loops.
+/// Refers to the process's one table of `e^{-p} Ei(p)` (about 23 kB, independent of the
+/// frequency: built at the first wave solve, read-only after), so a `GreenFunction` is cheap to
+/// make per frequency.
 #[derive(Clone, Copy)]
 pub struct GreenFunction {
     surface: FreeSurface,
-    table: QTable,
+    table: &'static QTable,
+}
+
+/// The table of `Q(p)`: a function of `p` alone, the same for every frequency and instance.
+fn q_table() -> &'static QTable {
+    static TABLE: std::sync::OnceLock<QTable> = std::sync::OnceLock::new();
+    TABLE.get_or_init(QTable::new)
 }
 
 impl fmt::Debug for GreenFunction {
@@ -165,16 +172,15 @@ impl GreenFunction {
     /// # Errors
     /// [`GreenError::InvalidWavenumber`] unless the wavenumber of `Wave` is finite and > 0.
     pub fn new(surface: FreeSurface) -> Result<Self, GreenError> {
-        let table = match surface {
-            FreeSurface::Wave { wavenumber } => {
-                if !(wavenumber.is_finite() && wavenumber > 0.0) {
-                    return Err(GreenError::InvalidWavenumber(wavenumber));
-                }
-                QTable::new()
+        if let FreeSurface::Wave { wavenumber } = surface {
+            if !(wavenumber.is_finite() && wavenumber > 0.0) {
+                return Err(GreenError::InvalidWavenumber(wavenumber));
             }
-            _ => QTable::empty(),
-        };
-        Ok(Self { surface, table })
+        }
+        Ok(Self {
+            surface,
+            table: q_table(),
+        })
     }
 
     /// The free-surface condition.
@@ -266,7 +272,7 @@ impl GreenFunction {
         let FreeSurface::Wave { wavenumber } = self.surface else {
             return;
         };
-        let w = panel.wave(zf, wavenumber, &self.table);
+        let w = panel.wave(zf, wavenumber, self.table);
         let ik = Complex64::new(0.0, wavenumber);
         // Complex derivatives of the analytic integrands behind the real and imaginary parts.
         let d_re = ik / PI * w.dq_integral;

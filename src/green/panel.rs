@@ -9,7 +9,7 @@
 #[cfg(test)]
 mod tests;
 
-use super::exp_integral::{ei_series_sum, EULER_GAMMA};
+use super::exp_integral::{ei_series_sum, exp, ln, EULER_GAMMA};
 use super::table::QTable;
 use super::{log_ratio, Point};
 use num_complex::Complex64;
@@ -166,7 +166,7 @@ impl Panel {
         let (kb, qb) = wave_endpoint(ik * (zf - self.b.conj()), table);
         // int e^{-p} ds = e^{-p_c} L sinh(h)/h (no cancellation for small k L).
         let hh = slope * self.half;
-        let exp_c = (-ik * (zf - self.centre.conj())).exp();
+        let exp_c = exp(-ik * (zf - self.centre.conj()));
         WaveIntegrals {
             q_integral: (kb - ka) / slope,
             dq_integral: (qb - qa) / slope,
@@ -279,13 +279,13 @@ fn wave_endpoint(p: Complex64, table: &QTable) -> (Complex64, Complex64) {
     }
     if p.norm_sqr() <= 1.0 {
         // K = (1 - e^{-p})(ln p + gamma) - e^{-p} S(p): no O(1) constant to cancel.
-        let ln_p = p.ln() + EULER_GAMMA;
+        let ln_p = ln(p) + EULER_GAMMA;
         let s = ei_series_sum(p);
         let em1 = expm1_complex(-p);
         let e = em1 + 1.0;
         (-em1 * ln_p - e * s, e * (ln_p + s))
     } else {
         let (q, _) = table.q_and_exp(p);
-        (p.ln() + EULER_GAMMA - q, q)
+        (ln(p) + EULER_GAMMA - q, q)
     }
 }

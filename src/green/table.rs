@@ -3,7 +3,7 @@
 //! nearest node: `Q'(p) = 1/p - Q(p)` gives every derivative. Elsewhere `Q` is computed
 //! directly; the lower half plane by conjugation.
 
-use super::exp_integral::{scaled_ei, RECIPROCALS};
+use super::exp_integral::{exp, scaled_ei, RECIPROCALS};
 use num_complex::Complex64;
 
 /// Inner log-polar grid: rings `rho_j = INNER_RHO_MIN * 1.15^j`, `j < INNER_RINGS`, and angles
@@ -110,7 +110,7 @@ impl QTable {
                     gw = gw1 * g;
                     c = c2;
                 }
-                (sum, (-pu).exp())
+                (sum, exp(-pu))
             }
             None => {
                 let e = scaled_ei(pu);

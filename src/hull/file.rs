@@ -40,12 +40,18 @@ impl Hull {
     /// half-beam, the geometry and every DOF (name, order, field), so hulls that differ in any
     /// of these get different fingerprints.
     pub fn fingerprint(&self) -> String {
-        let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-        for byte in self.to_xml_string().bytes() {
-            hash ^= u64::from(byte);
-            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        format!("{hash:016x}")
+        fnv1a(&self.to_xml_string())
+    }
+
+    /// As [`Hull::fingerprint`], without the name: hulls with the same half-beam, geometry and
+    /// DOFs, which solve to the same tables, get the same value (a ship's sections given by
+    /// different files of the same shape are solved once).
+    pub fn geometry_fingerprint(&self) -> String {
+        let unnamed = Hull {
+            name: String::new(),
+            ..self.clone()
+        };
+        fnv1a(&unnamed.to_xml_string())
     }
 
     /// Canonical XML in the documented format; `from_xml_str` of it gives the same hull.
@@ -605,4 +611,14 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
         dofs,
         notes,
     })
+}
+
+/// 64-bit FNV-1a of `text`, as 16 hex digits.
+fn fnv1a(text: &str) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for byte in text.bytes() {
+        hash ^= u64::from(byte);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{hash:016x}")
 }

@@ -75,9 +75,10 @@ impl Ship {
     }
 }
 
-/// The index of `hull` among the distinct `sections` (by fingerprint), added if new.
+/// The index of `hull` among the distinct `sections` (by [`Hull::geometry_fingerprint`]: a
+/// section of the same shape and DOFs under another name is the same), added if new.
 fn distinct(hull: Hull, sections: &mut Vec<Hull>, fingerprints: &mut Vec<String>) -> usize {
-    let print = hull.fingerprint();
+    let print = hull.geometry_fingerprint();
     match fingerprints.iter().position(|f| *f == print) {
         Some(k) => k,
         None => {

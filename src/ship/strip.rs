@@ -46,10 +46,12 @@ pub struct ShipSweepParams {
     /// Wave headings, degrees (0: towards +x, following seas; 90: towards +y; 180: head
     /// seas). Default 0, 45, 90, 135, 180.
     pub headings: Vec<f64>,
-    /// Discretization of the smooth sections (semicircles, Lewis forms). Default 64 body
-    /// panels: a ship's sections are many, and smooth ones converge fast.
+    /// Discretization of the smooth sections (semicircles, Lewis forms, hull files and offsets
+    /// without corners off the mirror axis). Default 64 body panels: a ship's sections are
+    /// many, and smooth ones converge fast.
     pub panels: PanelParams,
-    /// Discretization of sections with corners (hull files, offsets). Default 128 body panels.
+    /// Discretization of sections with corners off the mirror axis (hull files, offsets; see
+    /// [`ShipSweepParams::panels_for`]). Default 128 body panels.
     pub panels_with_corners: PanelParams,
     /// Discretization levels extrapolated for the smooth sections (see [`Solver`]). Default 3.
     pub extrapolation_levels: usize,
@@ -72,9 +74,12 @@ pub struct ShipSweepParams {
 
 impl ShipSweepParams {
     /// The discretization of `section`: [`ShipSweepParams::panels_with_corners`] for a contour
-    /// with corners (a polyline), [`ShipSweepParams::panels`] for a smooth one.
+    /// with corners off its mirror axis (a hull file or offsets turning more than
+    /// [`crate::panels::CORNER_ANGLE`] at a point, [`crate::panels::off_axis_corner_count`]),
+    /// [`ShipSweepParams::panels`] for a smooth one (a built-in form, or points along a smooth
+    /// curve, a keel on the axis allowed).
     pub fn panels_for(&self, section: &Hull) -> &PanelParams {
-        if section.breakpoints().len() > 2 {
+        if crate::panels::off_axis_corner_count(section) > 0 {
             &self.panels_with_corners
         } else {
             &self.panels
@@ -83,7 +88,7 @@ impl ShipSweepParams {
 
     /// The extrapolation levels of `section` (see [`ShipSweepParams::panels_for`]).
     pub fn levels_for(&self, section: &Hull) -> usize {
-        if section.breakpoints().len() > 2 {
+        if crate::panels::off_axis_corner_count(section) > 0 {
             self.levels_with_corners
         } else {
             self.extrapolation_levels
@@ -597,6 +602,21 @@ pub fn run(
                 .warnings
                 .push(format!("the section first at x = {} m: {w}", first_x(k)));
         }
+    }
+    let smooth: Vec<usize> = solvers
+        .iter()
+        .map(|s| s.mesh().smooth_vertices_between_nodes)
+        .filter(|&n| n > 0)
+        .collect();
+    if !smooth.is_empty() {
+        result.notes.push(format!(
+            "{} of {} distinct sections are meshed as smooth curves through their points (more \
+             points than the coarsest level's nodes; {} points in all lie between panel nodes, \
+             the same at every level; corners stay nodes)",
+            smooth.len(),
+            solvers.len(),
+            smooth.iter().sum::<usize>()
+        ));
     }
     Ok(result)
 }

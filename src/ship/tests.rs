@@ -622,3 +622,30 @@ fn the_ship_report_estimates_the_station_spacing_error() {
     assert!(percent("yaw A~ ") > 2.0, "{note}");
     assert!(percent("heave A~ ") < 0.5, "{note}");
 }
+
+#[test]
+fn sections_of_the_same_shape_under_other_names_are_solved_once() {
+    // A fore-and-aft symmetric ship given by one file per station: the mirrored stations'
+    // files differ in their names only.
+    let dir = std::env::temp_dir().join(format!("hydrofmu-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sections = [("a", 1.0), ("b", 1.5), ("c", 1.0), ("d", 1.2)];
+    for (name, half_beam) in sections {
+        let text = crate::hull::wigley_section_xml(name, half_beam, 0.5, 5);
+        std::fs::write(dir.join(format!("{name}.xml")), text).unwrap();
+    }
+    let stations: String = sections
+        .iter()
+        .enumerate()
+        .map(|(k, (name, _))| format!("<station x=\"{k}\"><hull file=\"{name}.xml\"/></station>"))
+        .collect();
+    let ship = Ship::from_xml_str(
+        &format!("<ship name=\"s\">{stations}</ship>"),
+        "s.xml",
+        &dir,
+    )
+    .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    // a and c are one shape; b and d differ in half-beam.
+    assert_eq!(ship.sections().len(), 3);
+}
