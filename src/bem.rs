@@ -15,8 +15,9 @@
 //! d(phi_j)/dn (x_l) = n_j(x_l)            (n out of the fluid, into the body)
 //! ```
 //!
-//! and one LU factorization per frequency serves all DOFs as right-hand sides. The complex
-//! added mass follows from
+//! and one LU factorization per frequency serves all DOFs as right-hand sides (on a mesh
+//! symmetric about `x = 0`, two of half the size: its symmetric and antisymmetric halves). The
+//! complex added mass follows from
 //!
 //! ```text
 //! A~_ij = rho integral_C n_i phi_j ds  ~  rho sum_l n_i(x_l) phi_j(x_l) L_l  =  a_ij - i b_ij/omega.
@@ -80,7 +81,8 @@ pub enum IrregularFrequencies {
     Keep,
     /// Sources on the interior free-surface lid with `d(phi)/dy = 0` there (extended boundary
     /// condition). No effect on closed (submerged) contours, which have no irregular
-    /// frequencies.
+    /// frequencies. A [`crate::sweep::Solver`] leaves the lid out far below the first
+    /// irregular frequency ([`crate::sweep::LID_FREE_FRACTION`]).
     #[default]
     RemoveWithLid,
 }

@@ -20,12 +20,14 @@
 //! ```
 //!
 //! with `beta` = [`PanelParams::clustering`]. Closed contours (submerged hulls) are spaced
-//! uniformly in arc length. Contour vertices of hull files become panel nodes: each takes the
-//! node nearest to it in that spacing, the nodes between keep their relative spacing; with more
-//! vertices than nodes, those where the contour turns least are left out and counted
-//! ([`Mesh::dropped_vertices`]). A contour symmetric about a vertical line gets a mesh
-//! symmetric to rounding by construction: one half is meshed and mirrored
-//! ([`Mesh::mirror_axis`]).
+//! uniformly in arc length. Contour vertices of hull files become panel nodes where they all
+//! fit ([`PanelParams::vertex_budget`]): each takes the node nearest to it in that spacing, the
+//! nodes between keep their relative spacing. Where they do not, only the corners (turning more
+//! than [`CORNER_ANGLE`]) do and the smooth vertices lie between nodes
+//! ([`Mesh::smooth_vertices_between_nodes`]); with more corners than nodes, those where the
+//! contour turns least are left out and counted ([`Mesh::dropped_vertices`]). A contour
+//! symmetric about a vertical line gets a mesh symmetric to rounding by construction: one half
+//! is meshed and mirrored ([`Mesh::mirror_axis`]).
 //!
 //! For the removal of irregular frequencies, an open contour also gets an interior lid: panels
 //! on the free surface `y = 0` between the two waterline points, inside the body, with the

@@ -597,6 +597,14 @@ fn the_ship_report_estimates_the_station_spacing_error() {
     for dof in ["sway A~ 0.00 %", "heave A~ 0.00 %", "roll A~ 0.00 %"] {
         assert!(note.contains(dof), "{note}");
     }
+    assert!(
+        !result
+            .warnings
+            .iter()
+            .any(|w| w.contains("station spacing")),
+        "{:?} {note}",
+        result.warnings
+    );
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ships/wigley.xml");
     let ship = Ship::from_file(&path).unwrap();
     let result = run(
@@ -621,6 +629,16 @@ fn the_ship_report_estimates_the_station_spacing_error() {
     };
     assert!(percent("yaw A~ ") > 2.0, "{note}");
     assert!(percent("heave A~ ") < 0.5, "{note}");
+    // Yaw and sway beyond 2 %: a warning names them, not heave.
+    let warning = result
+        .warnings
+        .iter()
+        .find(|w| w.starts_with("station spacing"))
+        .expect("a spacing warning");
+    assert!(
+        warning.contains("yaw ") && !warning.contains("heave "),
+        "{warning}"
+    );
 }
 
 #[test]
