@@ -58,11 +58,12 @@ fmu-pack built):
 The machine's load average is printed at the start and the end: on a shared machine both codes'
 wall times move with it (CPU times less so).
 
-One run (2 cores, under another job's load 3.5 .. 4.2): the coarsest adequate mesh was 40x8
-(640 hull + 320 lid panels; worst: heave damping at 4.95 rad/s, 4.8 % off 100x20), whose full
-sweep took Capytaine 103 s wall and 102 s CPU against our 5.4 s and 5.4 s, 19 times. With
---symmetry both Capytaine's Green function part shrinks but its linear solver and matrix-vector
-products grow: no faster on this mesh (96 s CPU against 84 s with xz alone, in one later run).
+Measured (2 cores, docs/SHIPS.md): the coarsest adequate mesh was 40x8 (640 hull + 320 lid
+panels; worst: heave damping at 4.95 rad/s, 4.8 % off 100x20). On 2026-11-28 at load 1.5 .. 2.8
+its full sweep took Capytaine 42.7 s wall and 67.4 s CPU against our 1.75 s and 3.14 s: 24.5x
+in wall time, 21.4x in CPU time. With --symmetry both Capytaine's Green function part shrinks
+but its linear solver and matrix-vector products grow: no faster on this mesh (96 s CPU against
+84 s with xz alone, in one run under load).
 The symmetric solves differ slightly from the unsymmetric one on the same panels (0.2 % for xz,
 1.8 % for both on 40x8, falling with the panel size): the twisted quadrilaterals of the curved hull.
 """
