@@ -477,7 +477,7 @@ fn vertices_fit(vertices: &[f64], symmetric: bool, count: usize) -> bool {
     if symmetric {
         let below = vertices.partition_point(|&v| v < 0.5 - 1e-12);
         let free = if count % 2 == 0 {
-            count / 2 - 1
+            (count / 2).saturating_sub(1)
         } else {
             count / 2
         };
@@ -953,6 +953,8 @@ mod tests {
             assert_eq!(alone.smooth_vertices_between_nodes, expected, "{panels}");
             // With the coarsest level's budget, every level leaves the same 14 off.
             assert_eq!(own(Some(8)).smooth_vertices_between_nodes, 14, "{panels}");
+            // A budget too small for any vertex: the corners only, no panic.
+            assert_eq!(own(Some(0)).smooth_vertices_between_nodes, 14, "{panels}");
         }
     }
 }

@@ -84,6 +84,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from compare_capytaine import read_rows  # noqa: E402  (the same CSV rows of fmu-pack sweep)
 RHO, G = 1025.0, 9.81
 L, HALF_BEAM, T = 20.0, 2.0, 1.25
 R = HALF_BEAM  # fmu-pack's reference length: the largest section half-beam
@@ -169,14 +171,6 @@ def check_geometry(ship, folder):
         assert ours[x][1].shape == theirs[x][1].shape, f"station {x}: point count differs"
         worst = max(worst, abs(ours[x][0] - theirs[x][0]), np.abs(ours[x][1] - theirs[x][1]).max())
     return worst
-
-
-def read_rows(path):
-    rows = []
-    for line in pathlib.Path(path).read_text().splitlines():
-        if line and not line.startswith(("#", "omega", "i,")):
-            rows.append(line.split(","))
-    return rows
 
 
 def strip(fmu_pack, ship, omega, headings, folder):

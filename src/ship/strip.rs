@@ -597,7 +597,7 @@ pub fn run(
             .push(spacing.note(&result.dof_names, &params.headings));
         result
             .warnings
-            .extend(spacing.warning(&result.dof_names, ship.length()));
+            .extend(spacing.warning(&ship.dof_units(), ship.length()));
     }
     for (k, solver) in solvers.iter().enumerate() {
         if let Some(w) = solver.dropped_vertices_warning() {
@@ -686,19 +686,20 @@ impl SpacingEstimate {
     /// A warning naming the DOFs whose `A~` or exciting force changes by more than
     /// [`SPACING_WARNING`] of its largest value with every second station, else `None`. A
     /// value that is zero but for rounding (the pitch force of beam seas on a fore-and-aft
-    /// symmetric ship) is left out: below 1e-9 of the largest over the DOFs, moments taken over
-    /// the ship's `length`.
-    fn warning(&self, names: &[String], length: f64) -> Option<String> {
-        let arm = |name: &str| match name {
-            "sway" | "heave" => 1.0,
-            _ => length.max(f64::MIN_POSITIVE),
+    /// symmetric ship) is left out: below 1e-9 of the largest over the DOFs, a DOF of length
+    /// exponent 1 (angles, modes) taken over the ship's `length`.
+    fn warning(&self, units: &[crate::fmu::DofUnit], length: f64) -> Option<String> {
+        let arm = |u: &crate::fmu::DofUnit| {
+            length
+                .max(f64::MIN_POSITIVE)
+                .powi(i32::from(u.length_exponent))
         };
         // Diagonal A~ carries the arm squared, a force the arm.
         let floor = |scales: &[f64], power: i32| {
-            1e-9 * names
+            1e-9 * units
                 .iter()
                 .zip(scales)
-                .map(|(n, s)| s / arm(n).powi(power))
+                .map(|(u, s)| s / arm(u).powi(power))
                 .fold(0.0, f64::max)
         };
         let (added_floor, force_floor) = (floor(&self.added_scale, 2), floor(&self.force_scale, 1));
@@ -709,17 +710,17 @@ impl SpacingEstimate {
                 0.0
             }
         };
-        let large: Vec<String> = names
+        let large: Vec<String> = units
             .iter()
             .enumerate()
-            .filter_map(|(r, name)| {
-                let a = arm(name);
+            .filter_map(|(r, unit)| {
+                let a = arm(unit);
                 let (added, force) = (self.added_scale[r], self.force_scale[r]);
                 let change =
                     fraction(self.added_change[r].0, added, added / (a * a), added_floor).max(
                         fraction(self.force_change[r].0, force, force / a, force_floor),
                     );
-                (change > SPACING_WARNING).then(|| format!("{name} {:.1} %", 100.0 * change))
+                (change > SPACING_WARNING).then(|| format!("{} {:.1} %", unit.name, 100.0 * change))
             })
             .collect();
         (!large.is_empty()).then(|| {
