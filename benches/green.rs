@@ -1,13 +1,14 @@
 //! Benchmarks of the free-surface Green function: the scaled exponential integral `e^z E1(z)`
 //! at the arguments of a 100-panel semicircle's centre pairs (kR 0.05 .. 10), building a
-//! wave Green function, and the panel integrals of that semicircle (rigid lid and wave).
+//! wave Green function, and the panel integrals of that semicircle (rigid lid and wave; the wave
+//! part alone pair by pair and from prepared [`PanelPairs`], and their preparation).
 //!
 //! ```sh
 //! cargo bench --bench green
 //! ```
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hydrofmu::green::{self, FreeSurface, GreenFunction, Point};
+use hydrofmu::green::{self, FreeSurface, GreenFunction, PanelPairs, Point};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -92,6 +93,55 @@ fn green_function(c: &mut Criterion) {
         "panel integrals, wave, 100-panel semicircle at 20 kR (2 x 10^5)",
         |b| b.iter(|| waves.iter().map(|g| sweep(black_box(g))).sum::<Complex64>()),
     );
+    // The wave part alone, pair by pair and from prepared pairs (what a sweep does).
+    let beyond = |g: &GreenFunction| {
+        let mut acc = Complex64::new(0.0, 0.0);
+        for x in &centres {
+            for w in nodes.windows(2) {
+                acc += g.panel_integral_beyond_dirichlet(*x, w[0], w[1]).gradient[1];
+            }
+        }
+        acc
+    };
+    c.bench_function(
+        "wave part, pair by pair, 100-panel semicircle at 20 kR (2 x 10^5)",
+        |b| {
+            b.iter(|| {
+                waves
+                    .iter()
+                    .map(|g| beyond(black_box(g)))
+                    .sum::<Complex64>()
+            })
+        },
+    );
+    let pairs = PanelPairs::new(
+        centres
+            .iter()
+            .flat_map(|&x| nodes.windows(2).map(move |w| (x, w[0], w[1]))),
+    );
+    let mut values = Vec::new();
+    c.bench_function(
+        "wave part, prepared pairs, 100-panel semicircle at 20 kR (2 x 10^5)",
+        |b| {
+            b.iter(|| {
+                let mut acc = Complex64::new(0.0, 0.0);
+                for g in &waves {
+                    black_box(g).panel_integrals_beyond_dirichlet(&pairs, &mut values);
+                    acc += values.iter().map(|v| v.gradient[1]).sum::<Complex64>();
+                }
+                acc
+            })
+        },
+    );
+    c.bench_function("PanelPairs::new, 100-panel semicircle (10^4 pairs)", |b| {
+        b.iter(|| {
+            PanelPairs::new(
+                centres
+                    .iter()
+                    .flat_map(|&x| nodes.windows(2).map(move |w| (x, w[0], w[1]))),
+            )
+        })
+    });
 }
 
 criterion_group! {

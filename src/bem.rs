@@ -62,7 +62,7 @@
 //! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is the seed's
 //! plain method.
 
-use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral};
+use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral, PanelPairs};
 use crate::panels::{Mesh, Panel};
 use crate::xml::{format_number, Notation};
 use faer::complex_native::c64;
@@ -273,6 +273,107 @@ pub struct Problem {
     mesh: Mesh,
     mirror: Option<Vec<usize>>,
     dirichlet: Influence,
+    wave_pairs: WavePairs,
+}
+
+/// The (collocation point, panel) pairs a wave solve evaluates, with their
+/// frequency-independent part: body on body first, then every pair that involves the lid.
+/// A pair whose potential is a panel mean brings the Gauss points of the mean along.
+struct WavePairs {
+    body: PanelPairs,
+    lid: PanelPairs,
+    /// Body and lid panels.
+    unknowns: usize,
+    /// `slot[i * unknowns + p]`: the centre value's index in `body` then `lid` (`u32::MAX`: a
+    /// row copied from its mirror image).
+    slot: Vec<u32>,
+    /// `mean_slot[i * unknowns + p]`: the index of the first Gauss point of the panel mean, where
+    /// there is one.
+    mean_slot: Vec<u32>,
+}
+
+impl WavePairs {
+    fn new(mesh: &Mesh, mirror: Option<&[usize]>) -> Self {
+        let body_count = mesh.body.len();
+        let unknowns = body_count + mesh.lid.len();
+        let is_copy = |i: usize| mirror.is_some_and(|m| m[i] < i);
+        let mut slot = vec![u32::MAX; unknowns * unknowns];
+        let mut mean_slot = vec![u32::MAX; unknowns * unknowns];
+        let mut body = Vec::new();
+        let mut lid = Vec::new();
+        for p in 0..unknowns {
+            let source = unknown_panel(mesh, p);
+            for i in (0..unknowns).filter(|&i| !is_copy(i)) {
+                let field = unknown_panel(mesh, i);
+                let set = if i < body_count && p < body_count {
+                    &mut body
+                } else {
+                    &mut lid
+                };
+                slot[i * unknowns + p] = set.len() as u32;
+                set.push((field.centre, source.start, source.end));
+                if i < body_count && needs_mean(field, source, Singular::Image) {
+                    mean_slot[i * unknowns + p] = set.len() as u32;
+                    set.extend(mean_points(field).map(|x| (x, source.start, source.end)));
+                }
+            }
+        }
+        // Lid pairs come after the body pairs.
+        for i in 0..unknowns {
+            for p in 0..unknowns {
+                if i >= body_count || p >= body_count {
+                    for s in [
+                        &mut slot[i * unknowns + p],
+                        &mut mean_slot[i * unknowns + p],
+                    ] {
+                        if *s != u32::MAX {
+                            *s += body.len() as u32;
+                        }
+                    }
+                }
+            }
+        }
+        Self {
+            body: PanelPairs::new(body),
+            lid: PanelPairs::new(lid),
+            unknowns,
+            slot,
+            mean_slot,
+        }
+    }
+}
+
+/// Whether the potential of `source` at `field` is the panel mean rather than the centre
+/// value: phi of a constant-strength panel is log-singular in slope at and next to the kernel's
+/// singularity, so the centre value misrepresents the mean by O(L) there (by
+/// (L/2pi)(ln 2 - 1/2) on the panel itself).
+fn needs_mean(field: &Panel, source: &Panel, singular: Singular) -> bool {
+    let singular_at = match singular {
+        Singular::Source => *source,
+        Singular::Image => image(source),
+    };
+    let reach = NEAR_FIELD_RATIO * field.length.max(source.length);
+    squared_distance_to_panel(field.centre, &singular_at) <= reach * reach
+}
+
+/// The points of [`panel_mean`] on `panel`.
+fn mean_points(panel: &Panel) -> impl Iterator<Item = [f64; 2]> + '_ {
+    GAUSS_NODES.iter().map(|&t| {
+        let u = 0.5 * (1.0 + t);
+        [
+            panel.start[0] + u * (panel.end[0] - panel.start[0]),
+            panel.start[1] + u * (panel.end[1] - panel.start[1]),
+        ]
+    })
+}
+
+/// Panel `p` of the unknowns (body, then lid).
+fn unknown_panel(mesh: &Mesh, p: usize) -> &Panel {
+    if p < mesh.body.len() {
+        &mesh.body[p]
+    } else {
+        &mesh.lid[p - mesh.body.len()]
+    }
 }
 
 impl Problem {
@@ -289,12 +390,17 @@ impl Problem {
             mirror.as_deref(),
             unknowns,
             Singular::Source,
-            |x, a, b| green.panel_integral(x, a, b),
+            &Computed {
+                mesh: &mesh,
+                kernel: |x, a, b| green.panel_integral(x, a, b),
+            },
         );
+        let wave_pairs = WavePairs::new(&mesh, mirror.as_deref());
         Ok(Self {
             mesh,
             mirror,
             dirichlet,
+            wave_pairs,
         })
     }
 
@@ -368,18 +474,38 @@ impl Problem {
                     .to_owned(),
             },
             FreeSurface::Wave { .. } => {
-                let mut wave = influence(mesh, mirror, unknowns, Singular::Image, |x, a, b| {
-                    green.panel_integral_beyond_dirichlet(x, a, b)
-                });
+                let pairs = &self.wave_pairs;
+                let mut values = Vec::new();
+                green.panel_integrals_beyond_dirichlet(&pairs.body, &mut values);
+                if use_lid {
+                    let mut lid = Vec::new();
+                    green.panel_integrals_beyond_dirichlet(&pairs.lid, &mut lid);
+                    values.append(&mut lid);
+                }
+                let mut wave = influence(
+                    mesh,
+                    mirror,
+                    unknowns,
+                    Singular::Image,
+                    &LookedUp {
+                        pairs,
+                        values: &values,
+                    },
+                );
                 wave.system += cached.system.submatrix(0, 0, unknowns, unknowns);
                 wave.potential += cached.potential.submatrix(0, 0, body_count, unknowns);
                 wave
             }
-            FreeSurface::RigidLid => {
-                influence(mesh, mirror, unknowns, Singular::Source, |x, a, b| {
-                    green.panel_integral(x, a, b)
-                })
-            }
+            FreeSurface::RigidLid => influence(
+                mesh,
+                mirror,
+                unknowns,
+                Singular::Source,
+                &Computed {
+                    mesh,
+                    kernel: |x, a, b| green.panel_integral(x, a, b),
+                },
+            ),
         };
         let influence_time = start.elapsed();
         let waves = match surface {
@@ -443,24 +569,67 @@ enum Singular {
     Image,
 }
 
-/// The influence of the first `unknowns` panels (body, then lid) under `kernel`, the panel
-/// integral of some Green function. With a `mirror` map, rows of mirrored collocation points
-/// are copied, `I(i, p) = I(m(i), m(p))`, which halves the work on symmetric hulls.
+/// The panel integrals of a kernel (some Green function) over panel `p` at collocation panel
+/// `i` (unknown indices), computed or looked up: at the panel's centre, and the potential's mean
+/// over the collocation panel ([`panel_mean`]).
+trait PairValues {
+    fn centre(&self, i: usize, p: usize) -> PanelIntegral;
+    fn mean(&self, i: usize, p: usize) -> Complex64;
+}
+
+/// [`PairValues`] computed by a kernel.
+struct Computed<'a, K> {
+    mesh: &'a Mesh,
+    kernel: K,
+}
+
+impl<K: Fn([f64; 2], [f64; 2], [f64; 2]) -> PanelIntegral> PairValues for Computed<'_, K> {
+    fn centre(&self, i: usize, p: usize) -> PanelIntegral {
+        let source = unknown_panel(self.mesh, p);
+        (self.kernel)(unknown_panel(self.mesh, i).centre, source.start, source.end)
+    }
+
+    fn mean(&self, i: usize, p: usize) -> Complex64 {
+        let source = unknown_panel(self.mesh, p);
+        panel_mean(unknown_panel(self.mesh, i), |x| {
+            (self.kernel)(x, source.start, source.end).potential
+        })
+    }
+}
+
+/// [`PairValues`] of the wave part looked up from one frequency's values of [`WavePairs`].
+struct LookedUp<'a> {
+    pairs: &'a WavePairs,
+    values: &'a [PanelIntegral],
+}
+
+impl PairValues for LookedUp<'_> {
+    fn centre(&self, i: usize, p: usize) -> PanelIntegral {
+        self.values[self.pairs.slot[i * self.pairs.unknowns + p] as usize]
+    }
+
+    fn mean(&self, i: usize, p: usize) -> Complex64 {
+        let first = self.pairs.mean_slot[i * self.pairs.unknowns + p] as usize;
+        weighted_mean(
+            self.values[first..first + GAUSS_NODES.len()]
+                .iter()
+                .map(|v| v.potential),
+        )
+    }
+}
+
+/// The influence of the first `unknowns` panels (body, then lid) from the panel integrals of
+/// some Green function. With a `mirror` map, rows of mirrored collocation points are copied,
+/// `I(i, p) = I(m(i), m(p))`, which halves the work on symmetric hulls.
 fn influence(
     mesh: &Mesh,
     mirror: Option<&[usize]>,
     unknowns: usize,
     singular: Singular,
-    kernel: impl Fn([f64; 2], [f64; 2], [f64; 2]) -> PanelIntegral,
+    values: &impl PairValues,
 ) -> Influence {
     let body_count = mesh.body.len();
-    let panel = |p: usize| {
-        if p < body_count {
-            &mesh.body[p]
-        } else {
-            &mesh.lid[p - body_count]
-        }
-    };
+    let panel = |p: usize| unknown_panel(mesh, p);
     let mut system = Mat::<c64>::zeros(unknowns, unknowns);
     let mut potential = Mat::<c64>::zeros(body_count, unknowns);
     // A mirror map is usable when it maps the unknowns in use onto themselves.
@@ -473,22 +642,13 @@ fn influence(
                 continue;
             }
             let field = panel(i);
-            let integral = kernel(field.centre, source.start, source.end);
+            let integral = values.centre(i, p);
             if i < body_count {
                 let normal_derivative =
                     integral.gradient[0] * field.normal[0] + integral.gradient[1] * field.normal[1];
                 system.write(i, p, to_faer(normal_derivative));
-                // Panel mean for near pairs: phi of a constant-strength panel is log-singular
-                // in slope at and next to its own panel, so the centre value misrepresents the
-                // mean by O(L) there (by (L/2pi)(ln 2 - 1/2) on the panel itself).
-                let singular_at = match singular {
-                    Singular::Source => *source,
-                    Singular::Image => image(source),
-                };
-                let reach = NEAR_FIELD_RATIO * field.length.max(source.length);
-                let near = squared_distance_to_panel(field.centre, &singular_at) <= reach * reach;
-                let value = if near {
-                    panel_mean(field, |x| kernel(x, source.start, source.end).potential)
+                let value = if needs_mean(field, source, singular) {
+                    values.mean(i, p)
                 } else {
                     integral.potential
                 };
@@ -692,18 +852,12 @@ const GAUSS_WEIGHTS: [f64; 8] = [
 
 /// Mean of `f` over the panel, by Gauss-Legendre quadrature.
 fn panel_mean(panel: &Panel, f: impl Fn([f64; 2]) -> Complex64) -> Complex64 {
-    GAUSS_NODES
-        .iter()
-        .zip(GAUSS_WEIGHTS)
-        .map(|(&t, w)| {
-            let u = 0.5 * (1.0 + t);
-            let x = [
-                panel.start[0] + u * (panel.end[0] - panel.start[0]),
-                panel.start[1] + u * (panel.end[1] - panel.start[1]),
-            ];
-            f(x) * (0.5 * w)
-        })
-        .sum()
+    weighted_mean(mean_points(panel).map(f))
+}
+
+/// `sum_j f(x_j) w_j / 2` over the Gauss points, given the values `f(x_j)` in order.
+fn weighted_mean(values: impl Iterator<Item = Complex64>) -> Complex64 {
+    values.zip(GAUSS_WEIGHTS).map(|(f, w)| f * (0.5 * w)).sum()
 }
 
 /// The mirror image of a panel in the free surface `y = 0`.
@@ -896,6 +1050,7 @@ mod tests {
             assert!(mirrored.mirror.is_some());
             let mut general = Problem::new(mesh).unwrap();
             general.mirror = None;
+            general.wave_pairs = WavePairs::new(&general.mesh, None);
             for surface in [
                 FreeSurface::Wave { wavenumber: 0.7 },
                 FreeSurface::Wave { wavenumber: 2.9 },

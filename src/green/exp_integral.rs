@@ -80,7 +80,11 @@ pub(super) fn scaled_ei(p: Complex64) -> ScaledEi {
 
 /// [`scaled_ei`] for `Im p >= +0`, where `F(-p) = -Q(p) + i pi e^{-p}`.
 fn scaled_ei_upper(p: Complex64) -> ScaledEi {
-    let exp = exp(-p);
+    scaled_ei_upper_given_exp(p, exp(-p))
+}
+
+/// [`scaled_ei`] for `Im p >= +0`, given `exp = e^{-p}`.
+pub(super) fn scaled_ei_upper_given_exp(p: Complex64, exp: Complex64) -> ScaledEi {
     let i_pi_exp = Complex64::new(-PI * exp.im, PI * exp.re);
     let rho = match p.norm_sqr() {
         r2 if r2.is_finite() => r2.sqrt(),
@@ -156,6 +160,12 @@ pub(super) fn exp(z: Complex64) -> Complex64 {
     } else {
         z.exp()
     }
+}
+
+/// `Q(p)` by the power series, for `|p| < 1`, `Re p >= 0`, `Im p >= +0`, given `ln p` and
+/// `exp = e^{-p}` (as [`scaled_ei`] there, without its logarithm and exponential).
+pub(super) fn small_q(p: Complex64, ln_p: Complex64, exp: Complex64) -> Complex64 {
+    exp * (ln_p + EULER_GAMMA + ei_series_sum(p))
 }
 
 /// `S(p) = sum_{n>=1} p^n / (n n!)`, so `Ei(p) = gamma + ln p + S(p)` and

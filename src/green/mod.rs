@@ -88,7 +88,8 @@ mod tests;
 pub use exp_integral::{exp_integral_e1, scaled_exp_integral};
 
 use num_complex::Complex64;
-use panel::Panel;
+use panel::{FarGeometry, Panel};
+use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::fmt;
 use table::QTable;
@@ -272,14 +273,92 @@ impl GreenFunction {
         let FreeSurface::Wave { wavenumber } = self.surface else {
             return;
         };
-        let w = panel.wave(zf, wavenumber, self.table);
-        let ik = Complex64::new(0.0, wavenumber);
-        // Complex derivatives of the analytic integrands behind the real and imaginary parts.
-        let d_re = ik / PI * w.dq_integral;
-        let d_im = -ik * w.exp_integral;
-        out.potential += Complex64::new(w.q_integral.re / PI, w.exp_integral.re);
-        out.gradient[0] += Complex64::new(d_re.re, d_im.re);
-        out.gradient[1] += Complex64::new(-d_re.im, -d_im.im);
+        add_wave_integrals(wavenumber, &panel.wave(zf, wavenumber, self.table), out);
+    }
+
+    /// [`GreenFunction::panel_integral_beyond_dirichlet`] of every pair of `pairs`, in their
+    /// order, into `out` (cleared first). The same values as pair by pair; for `Wave` faster,
+    /// from the pairs' frequency-independent part and one `Q(p)` per distinct far-series
+    /// argument (a pair and its transpose, or its mirror image, share one up to conjugation).
+    pub fn panel_integrals_beyond_dirichlet(
+        &self,
+        pairs: &PanelPairs,
+        out: &mut Vec<PanelIntegral>,
+    ) {
+        out.clear();
+        let FreeSurface::Wave { wavenumber: k } = self.surface else {
+            out.extend(pairs.pairs.iter().map(|pair| {
+                let (field, a, b) = pair.points(&pairs.panels);
+                self.panel_integral_beyond_dirichlet(field, a, b)
+            }));
+            return;
+        };
+        let nan = Complex64::new(f64::NAN, f64::NAN);
+        let ln_k = k.ln();
+        // e^{-p} = e^{-i k zeta} conj(e^{-i k centre}): one exponential per point.
+        let factors: Vec<Complex64> = pairs
+            .points
+            .iter()
+            .map(|z| exp_integral::exp(Complex64::new(k * z.im, -k * z.re)))
+            .collect();
+        let shared: Vec<(Complex64, Complex64)> = pairs
+            .rays
+            .iter()
+            .map(|ray| {
+                if k * ray.smallest_half > panel::FAR_WAVE_MAX_HALF_KL {
+                    return (nan, nan);
+                }
+                let p = k * ray.ray;
+                let (field, centre) = (factors[ray.field as usize], factors[ray.centre as usize]);
+                let exp = if ray.conjugate {
+                    field.conj() * centre
+                } else {
+                    field * centre.conj()
+                };
+                let q = if p.re >= 0.0 && p.norm_sqr() < 1.0 {
+                    // The series, as the table would, with ln p = ln k + ln(p/k).
+                    exp_integral::small_q(p, ray.ln_ray + ln_k, exp)
+                } else {
+                    self.table.q_given_exp(p, exp)
+                };
+                (q, exp)
+            })
+            .collect();
+        // Per panel: sinh(h)/h and the terms of the series in h.
+        let steps: Vec<(Complex64, Option<usize>)> = pairs
+            .panels
+            .iter()
+            .map(|panel| {
+                let terms = panel::step_series_terms(k * panel.half_length());
+                (panel.sinhc_half_step(k), terms)
+            })
+            .collect();
+        out.extend(pairs.pairs.iter().map(|pair| {
+            let zero = Complex64::new(0.0, 0.0);
+            let mut integral = PanelIntegral {
+                potential: zero,
+                gradient: [zero, zero],
+            };
+            let Some(panel) = pairs.panels.get(pair.panel as usize) else {
+                return integral;
+            };
+            let waves = match pairs.far.get(pair.far as usize) {
+                Some(far) if panel.far_series_allowed(k) => {
+                    let (q, exp) = shared[far.ray as usize];
+                    let values = if far.conjugate {
+                        (q.conj(), exp.conj())
+                    } else {
+                        (q, exp)
+                    };
+                    let (sinhc, terms) = steps[pair.panel as usize];
+                    let series = terms.map(|n| &far.step_series[..n]);
+                    panel.wave_far(&far.geometry, k, values, sinhc, series)
+                }
+                _ => panel.wave_exact(pair.field, k, self.table),
+            };
+            add_wave_integrals(k, &waves, &mut integral);
+            integral
+        }));
     }
 
     /// The part of [`GreenFunction::panel_integral`] beyond the Dirichlet (`omega -> inf`)
@@ -316,6 +395,164 @@ impl GreenFunction {
             }
         }
         out
+    }
+}
+
+/// Adds the wave part `(1/pi) Re Q(p) + i Re e^{-p}` from the panel's wave integrals.
+fn add_wave_integrals(k: f64, w: &panel::WaveIntegrals, out: &mut PanelIntegral) {
+    let ik = Complex64::new(0.0, k);
+    // Complex derivatives of the analytic integrands behind the real and imaginary parts.
+    let d_re = ik / PI * w.dq_integral;
+    let d_im = -ik * w.exp_integral;
+    out.potential += Complex64::new(w.q_integral.re / PI, w.exp_integral.re);
+    out.gradient[0] += Complex64::new(d_re.re, d_im.re);
+    out.gradient[1] += Complex64::new(-d_re.im, -d_im.im);
+}
+
+/// A fixed list of (field point, panel) pairs with the part of their wave integrals that does
+/// not depend on the frequency, for [`GreenFunction::panel_integrals_beyond_dirichlet`]: a
+/// frequency sweep on one mesh prepares it once.
+#[derive(Clone, Debug, Default)]
+pub struct PanelPairs {
+    pairs: Vec<Pair>,
+    /// Distinct far-series arguments.
+    rays: Vec<Ray>,
+    /// Distinct field points and panel centres.
+    points: Vec<Complex64>,
+    /// Distinct panels.
+    panels: Vec<Panel>,
+    /// The far-series part of the pairs where it serves.
+    far: Vec<FarPair>,
+}
+
+/// A far-series argument shared by pairs.
+#[derive(Clone, Copy, Debug)]
+struct Ray {
+    /// `p_c / k`, `Im >= +0`.
+    ray: Complex64,
+    /// `ln(ray)`.
+    ln_ray: Complex64,
+    /// The smallest half panel length among the pairs that use it.
+    smallest_half: f64,
+    /// One pair's field point and panel centre in `points`, and whether `ray` is the conjugate
+    /// of that pair's `i (zeta - conj centre)`.
+    field: u32,
+    centre: u32,
+    conjugate: bool,
+}
+
+#[derive(Clone, Debug)]
+struct Pair {
+    field: Complex64,
+    /// Index in `panels`; `u32::MAX` for a zero-length panel.
+    panel: u32,
+    /// Index in `far`; `u32::MAX` where the far series does not serve.
+    far: u32,
+}
+
+/// The far-series part of a [`Pair`].
+#[derive(Clone, Debug)]
+struct FarPair {
+    geometry: FarGeometry,
+    step_series: [Complex64; panel::STEP_SERIES_TERMS],
+    /// The index of its argument in `rays`, and whether the pair's argument is the conjugate
+    /// of that one.
+    ray: u32,
+    conjugate: bool,
+}
+
+impl Pair {
+    fn points(&self, panels: &[Panel]) -> (Point, Point, Point) {
+        let field = [self.field.re, self.field.im];
+        match panels.get(self.panel as usize) {
+            Some(panel) => {
+                let (a, b) = panel.end_points();
+                (field, [a.re, a.im], [b.re, b.im])
+            }
+            None => (field, field, field),
+        }
+    }
+}
+
+impl PanelPairs {
+    /// Prepares the pairs `(field, a, b)`: the field point and the panel `a -> b`.
+    pub fn new(pairs: impl IntoIterator<Item = (Point, Point, Point)>) -> Self {
+        let mut out = PanelPairs::default();
+        let mut index: HashMap<(u64, u64), u32> = HashMap::new();
+        let mut point_index: HashMap<(u64, u64), u32> = HashMap::new();
+        let mut panel_index: HashMap<[u64; 4], u32> = HashMap::new();
+        let mut point = |z: Complex64, points: &mut Vec<Complex64>| {
+            *point_index
+                .entry((z.re.to_bits(), z.im.to_bits()))
+                .or_insert_with(|| {
+                    points.push(z);
+                    (points.len() - 1) as u32
+                })
+        };
+        for (field, a, b) in pairs {
+            let Some((panel, zf)) = Panel::new(field, a, b) else {
+                out.pairs.push(Pair {
+                    field: Complex64::new(field[0], field[1]),
+                    panel: u32::MAX,
+                    far: u32::MAX,
+                });
+                continue;
+            };
+            let bits = [a[0], a[1], b[0], b[1]].map(f64::to_bits);
+            let panel_slot = *panel_index.entry(bits).or_insert_with(|| {
+                out.panels.push(panel);
+                (out.panels.len() - 1) as u32
+            });
+            let far = panel.far_geometry(zf).map(|far| {
+                // The lower half plane by conjugation, as `QTable::q_and_exp` does it.
+                let conjugate = far.centre_ray.im.is_sign_negative();
+                let ray = if conjugate {
+                    far.centre_ray.conj()
+                } else {
+                    far.centre_ray
+                };
+                let next = out.rays.len() as u32;
+                let slot = *index
+                    .entry((ray.re.to_bits(), ray.im.to_bits()))
+                    .or_insert(next);
+                if slot == next {
+                    out.rays.push(Ray {
+                        ray,
+                        ln_ray: exp_integral::ln(ray),
+                        smallest_half: panel.half_length(),
+                        field: point(zf, &mut out.points),
+                        centre: point(panel.centre(), &mut out.points),
+                        conjugate,
+                    });
+                } else {
+                    let smallest = &mut out.rays[slot as usize].smallest_half;
+                    *smallest = smallest.min(panel.half_length());
+                }
+                out.far.push(FarPair {
+                    step_series: far.step_series(),
+                    geometry: far,
+                    ray: slot,
+                    conjugate,
+                });
+                (out.far.len() - 1) as u32
+            });
+            out.pairs.push(Pair {
+                field: zf,
+                panel: panel_slot,
+                far: far.unwrap_or(u32::MAX),
+            });
+        }
+        out
+    }
+
+    /// Number of pairs.
+    pub fn len(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// Whether there are no pairs.
+    pub fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
     }
 }
 

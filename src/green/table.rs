@@ -3,7 +3,7 @@
 //! nearest node: `Q'(p) = 1/p - Q(p)` gives every derivative. Elsewhere `Q` is computed
 //! directly; the lower half plane by conjugation.
 
-use super::exp_integral::{exp, scaled_ei, RECIPROCALS};
+use super::exp_integral::{exp, scaled_ei, scaled_ei_upper_given_exp, RECIPROCALS};
 use num_complex::Complex64;
 
 /// Inner log-polar grid: rings `rho_j = INNER_RHO_MIN * 1.15^j`, `j < INNER_RINGS`, and angles
@@ -67,6 +67,28 @@ impl QTable {
     pub(super) fn q_and_exp(&self, p: Complex64) -> (Complex64, Complex64) {
         let lower = p.im.is_sign_negative();
         let pu = if lower { p.conj() } else { p };
+        let (q, exp) = match self.taylor(pu) {
+            Some(q) => (q, exp(-pu)),
+            None => {
+                let e = scaled_ei(pu);
+                (e.q, e.exp)
+            }
+        };
+        if lower {
+            (q.conj(), exp.conj())
+        } else {
+            (q, exp)
+        }
+    }
+
+    /// `Q(p)` for `Im p >= +0`, given `exp = e^{-p}` (as [`QTable::q_and_exp`]).
+    pub(super) fn q_given_exp(&self, p: Complex64, exp: Complex64) -> Complex64 {
+        self.taylor(p)
+            .unwrap_or_else(|| scaled_ei_upper_given_exp(p, exp).q)
+    }
+
+    /// `Q(p)` by a Taylor step from the nearest node, `Im p >= +0`; `None` outside the table.
+    fn taylor(&self, pu: Complex64) -> Option<Complex64> {
         let r2 = pu.norm_sqr();
         let node = if pu.re < 0.0 || r2 < INNER_RHO_MIN * INNER_RHO_MIN || r2.is_nan() {
             None // series is cheap inside, and p above the free surface is not tabulated
@@ -85,43 +107,32 @@ impl QTable {
         } else {
             None
         };
-        let (q, exp) = match node {
-            Some((p0, w, q0)) => {
-                // Q^(n+1) = -Q^(n) + (-1)^n n!/p0^{n+1}: with c_n = Q^(n) h^n/n!,
-                // c_{n+1} = h/(n+1) (g^n/p0 - c_n), g = -h/p0; two steps per pass so that
-                // the chain c_n -> c_{n+2} = alpha + beta c_n is one multiply-add.
-                let h = pu - p0;
-                let h2 = h * h;
-                let g = -h * w;
-                let mut gw = w; // g^n / p0
-                let mut c = q0;
-                let mut sum = q0;
-                for n in (0..TAYLOR_TERMS).step_by(2) {
-                    let (r1, r2) = (RECIPROCALS[n + 1], RECIPROCALS[n + 2]);
-                    let gw1 = gw * g;
-                    let beta = h2 * (r1 * r2);
-                    let c1 = h * r1 * (gw - c);
-                    let c2 = h * r2 * gw1 - beta * gw + beta * c;
-                    sum += c1 + c2;
-                    // Both terms below 1e-17 (they decay geometrically here).
-                    if c1.l1_norm() + c2.l1_norm() <= 1e-17 * sum.l1_norm() {
-                        break;
-                    }
-                    gw = gw1 * g;
-                    c = c2;
+        node.map(|(p0, w, q0)| {
+            // Q^(n+1) = -Q^(n) + (-1)^n n!/p0^{n+1}: with c_n = Q^(n) h^n/n!,
+            // c_{n+1} = h/(n+1) (g^n/p0 - c_n), g = -h/p0; two steps per pass so that
+            // the chain c_n -> c_{n+2} = alpha + beta c_n is one multiply-add.
+            let h = pu - p0;
+            let h2 = h * h;
+            let g = -h * w;
+            let mut gw = w; // g^n / p0
+            let mut c = q0;
+            let mut sum = q0;
+            for n in (0..TAYLOR_TERMS).step_by(2) {
+                let (r1, r2) = (RECIPROCALS[n + 1], RECIPROCALS[n + 2]);
+                let gw1 = gw * g;
+                let beta = h2 * (r1 * r2);
+                let c1 = h * r1 * (gw - c);
+                let c2 = h * r2 * gw1 - beta * gw + beta * c;
+                sum += c1 + c2;
+                // Both terms below 1e-17 (they decay geometrically here).
+                if c1.l1_norm() + c2.l1_norm() <= 1e-17 * sum.l1_norm() {
+                    break;
                 }
-                (sum, exp(-pu))
+                gw = gw1 * g;
+                c = c2;
             }
-            None => {
-                let e = scaled_ei(pu);
-                (e.q, e.exp)
-            }
-        };
-        if lower {
-            (q.conj(), exp.conj())
-        } else {
-            (q, exp)
-        }
+            sum
+        })
     }
 }
 

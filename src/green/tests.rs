@@ -283,3 +283,75 @@ fn singular_points_give_non_finite_values_without_panic() {
     let (v, _) = wave(1.0).value_and_gradient([0.3, 0.0], [0.3, 0.0]);
     assert!(!v.re.is_finite());
 }
+
+#[test]
+fn prepared_pairs_match_pair_by_pair() {
+    // A semicircle of 24 panels with a lid of 6 and Gauss points on three panels: the prepared
+    // pairs (shared Q per argument up to conjugation, per-point exponentials, the series in h)
+    // against the pair-by-pair integrals (measured: 5.6e-16 of 1 + |value| in the potential,
+    // 2.6e-15 in the gradient: rounding), at wavenumbers from the series' reach of every
+    // argument to beyond the far series' limit (k L/2 > 4), and at the two limits.
+    let n = 24;
+    let node = |j: usize| {
+        let t = PI * j as f64 / n as f64;
+        [-(t.cos()), -(t.sin())]
+    };
+    let mut panels: Vec<(Point, Point)> = (0..n).map(|j| (node(j), node(j + 1))).collect();
+    panels.extend((0..6).map(|j| {
+        let x = |j: usize| 1.0 - 2.0 * j as f64 / 6.0;
+        ([x(j), 0.0], [x(j + 1), 0.0])
+    }));
+    let centre = |(a, b): (Point, Point)| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    let mut fields: Vec<Point> = panels.iter().map(|&p| centre(p)).collect();
+    for &(a, b) in &panels[..3] {
+        fields
+            .extend([0.1, 0.5, 0.93].map(|u| [a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])]));
+    }
+    let list: Vec<(Point, Point, Point)> = fields
+        .iter()
+        .flat_map(|&x| panels.iter().map(move |&(a, b)| (x, a, b)))
+        .collect();
+    let pairs = PanelPairs::new(list.iter().copied());
+    assert_eq!(pairs.len(), list.len());
+    let mut values = Vec::new();
+    let mut surfaces = vec![
+        GreenFunction::new(FreeSurface::RigidLid).unwrap(),
+        GreenFunction::new(FreeSurface::Dirichlet).unwrap(),
+    ];
+    surfaces.extend([1e-3, 0.05, 0.7, 3.0, 12.0, 40.0].map(wave));
+    let (mut worst, mut worst_gradient): (f64, f64) = (0.0, 0.0);
+    for g in surfaces {
+        g.panel_integrals_beyond_dirichlet(&pairs, &mut values);
+        assert_eq!(values.len(), list.len());
+        for (&(x, a, b), prepared) in list.iter().zip(&values) {
+            let direct = g.panel_integral_beyond_dirichlet(x, a, b);
+            let scale = direct.potential.norm() + 1.0;
+            worst = worst.max((prepared.potential - direct.potential).norm() / scale);
+            assert!(
+                (prepared.potential - direct.potential).norm() <= 2e-15 * scale,
+                "{:?}, x = {x:?}: {} vs {}",
+                g.surface(),
+                prepared.potential,
+                direct.potential
+            );
+            for i in 0..2 {
+                if direct.gradient[i].is_finite() {
+                    let scale = direct.gradient[i].norm() + 1.0;
+                    worst_gradient = worst_gradient
+                        .max((prepared.gradient[i] - direct.gradient[i]).norm() / scale);
+                    assert!(
+                        (prepared.gradient[i] - direct.gradient[i]).norm() <= 1e-14 * scale,
+                        "{:?}, x = {x:?}, gradient {i}: {} vs {}",
+                        g.surface(),
+                        prepared.gradient[i],
+                        direct.gradient[i]
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        worst > 0.0,
+        "the prepared path should round differently somewhere"
+    );
+}

@@ -293,6 +293,15 @@ fn integrate_complex(
     total
 }
 
+/// The strip integrals of one frequency: added mass, exciting and Froude-Krylov forces (DOFs x
+/// headings), and with every second station alone the added mass and exciting force.
+struct StripIntegrals {
+    added: DMatrix<Complex64>,
+    excitation: DMatrix<Complex64>,
+    froude_krylov: DMatrix<Complex64>,
+    coarse: Option<(DMatrix<Complex64>, DMatrix<Complex64>)>,
+}
+
 /// Runs the ship's sweep. `progress(done, total)` after each section solve.
 ///
 /// # Errors
@@ -508,37 +517,40 @@ pub fn run(
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
     };
     let count = params.omega.len();
-    let mut coarse: Option<String> = None;
-    for (w, &omega) in params.omega.iter().enumerate() {
-        let at: Vec<&Result<RadiationSolution, String>> = (0..sections.len())
-            .map(|k| &solutions[k * count + w])
-            .collect();
-        if let Some(Err(why)) = at.iter().find(|s| s.is_err()) {
-            result.failures.push((omega, why.clone()));
-            continue;
-        }
-        let solved: Vec<&RadiationSolution> = at.iter().map(|s| s.as_ref().unwrap()).collect();
-        let Some(waves) = solved
+    // The strip integrals of one frequency (`Err`: why there are none).
+    let integrate_at = |w: usize| -> Result<StripIntegrals, String> {
+        let omega = params.omega[w];
+        let solved = (0..sections.len())
+            .map(|k| solutions[k * count + w].as_ref().map_err(Clone::clone))
+            .collect::<Result<Vec<&RadiationSolution>, String>>()?;
+        let waves = solved
             .iter()
             .map(|s| s.wave_forces.as_ref())
             .collect::<Option<Vec<_>>>()
-        else {
-            result.failures.push((
-                omega,
-                "a section's solve gave no exciting force".to_string(),
-            ));
-            continue;
-        };
+            .ok_or_else(|| "a section's solve gave no exciting force".to_string())?;
         let added = integrate_complex(&shares, n, &|k| solved[k].added_mass.clone())
             * Complex64::new(rho, 0.0);
         let k = crate::units::wavenumber(omega, g);
-        let force = |shares: &[Share], froude_krylov_only: bool| {
+        // Wave phase at each station for each heading: e^{-i k x cos(beta)}.
+        let phases = |shares: &[Share]| -> Vec<Vec<Complex64>> {
+            params
+                .headings
+                .iter()
+                .map(|heading| {
+                    let along = k * heading.to_radians().cos();
+                    shares
+                        .iter()
+                        .map(|s| Complex64::new(0.0, -along * s.x).exp())
+                        .collect()
+                })
+                .collect()
+        };
+        let force = |shares: &[Share], phases: &[Vec<Complex64>], froude_krylov_only: bool| {
             DMatrix::from_fn(n, params.headings.len(), |r, h| {
-                let beta = params.headings[h].to_radians();
                 shares
                     .iter()
-                    .map(|s| {
-                        let phase = Complex64::new(0.0, -k * s.x * beta.cos()).exp();
+                    .zip(&phases[h])
+                    .map(|(s, &phase)| {
                         let x = if froude_krylov_only {
                             &waves[s.section].froude_krylov
                         } else {
@@ -554,19 +566,38 @@ pub fn run(
                     * (rho * g)
             })
         };
-        let excitation = force(&shares, false);
-        let froude_krylov = force(&shares, true);
-        if let Some(coarse_shares) = &coarse_shares {
-            let coarse_added =
-                integrate_complex(coarse_shares, n, &|k| solved[k].added_mass.clone())
-                    * Complex64::new(rho, 0.0);
-            spacing.add(
-                omega,
-                &added,
-                &coarse_added,
-                &excitation,
-                &force(coarse_shares, false),
-            );
+        let all_phases = phases(&shares);
+        let coarse = coarse_shares.as_deref().map(|coarse_shares| {
+            let added = integrate_complex(coarse_shares, n, &|k| solved[k].added_mass.clone())
+                * Complex64::new(rho, 0.0);
+            (added, force(coarse_shares, &phases(coarse_shares), false))
+        });
+        Ok(StripIntegrals {
+            excitation: force(&shares, &all_phases, false),
+            froude_krylov: force(&shares, &all_phases, true),
+            added,
+            coarse,
+        })
+    };
+    let integrals: Vec<Result<StripIntegrals, String>> =
+        pool.install(|| (0..count).into_par_iter().map(integrate_at).collect());
+    let mut coarse: Option<String> = None;
+    for (integrals, &omega) in integrals.into_iter().zip(&params.omega) {
+        let integrals = match integrals {
+            Ok(integrals) => integrals,
+            Err(why) => {
+                result.failures.push((omega, why));
+                continue;
+            }
+        };
+        let StripIntegrals {
+            added,
+            excitation,
+            froude_krylov,
+            coarse: coarse_integrals,
+        } = integrals;
+        if let Some((coarse_added, coarse_excitation)) = &coarse_integrals {
+            spacing.add(omega, &added, coarse_added, &excitation, coarse_excitation);
         }
         let finite = |z: &Complex64| z.re.is_finite() && z.im.is_finite();
         if !(added.iter().all(finite) && excitation.iter().all(finite)) {
@@ -576,6 +607,7 @@ pub fn run(
             continue;
         }
         if coarse.is_none() {
+            let k = crate::units::wavenumber(omega, g);
             coarse = solvers.iter().find_map(|s| s.mesh().wavelength_warning(k));
         }
         result.omega.push(omega);

@@ -366,3 +366,49 @@ fn degenerate_panels() {
     let p = g.panel_integral([0.5, -0.5], [0.5, -0.5], [0.6, -0.5]);
     assert!(p.potential.re.is_finite());
 }
+
+#[test]
+fn step_series_matches_the_recurrence() {
+    // sum_m B_m two ways: the series in h from the prepared T_n(g), and the recurrence in m,
+    // over |g| up to the far limit 1/4, all directions, and |h| up to the series' reach.
+    let mut worst: f64 = 0.0;
+    for g_abs in [1e-4, 0.01, 0.1, 0.249] {
+        for g_angle in [0.0, 0.7, 1.6, 2.5, -1.1, -2.9] {
+            let g = Complex64::from_polar(g_abs, g_angle);
+            for h_abs in [1e-6, 1e-3, 0.05, 0.16] {
+                let Some(terms) = step_series_terms(h_abs) else {
+                    panic!("|h| = {h_abs} should be in reach of the series");
+                };
+                for h_angle in [0.3, -1.3, 2.2] {
+                    let hh = Complex64::from_polar(h_abs, h_angle);
+                    // FarGeometry for this g: only g enters both sums.
+                    let far = FarGeometry {
+                        centre_ray: hh / g,
+                        ray_inverse: g / hh,
+                        step: hh,
+                        g,
+                        log_sum: Complex64::new(0.0, 0.0),
+                    };
+                    let series = far.step_series()[..terms]
+                        .iter()
+                        .rev()
+                        .fold(Complex64::new(0.0, 0.0), |acc, &c| acc * hh + c);
+                    let w = far.ray_inverse; // 1/p_c at k = 1
+                    let recurrence = far.b_sum_recurrence(hh, 1e-19 * w.norm());
+                    // Relative to |1/p_c|, the scale the integrals compare B with (measured
+                    // 1.4e-17: rounding).
+                    let err = (series - recurrence).norm() / w.norm();
+                    worst = worst.max(err);
+                    assert!(
+                        err <= 2e-16,
+                        "g = {g}, h = {hh}: {series} vs {recurrence} ({err:e})"
+                    );
+                }
+            }
+        }
+    }
+    assert!(worst > 0.0);
+    // Beyond its reach the recurrence serves.
+    assert_eq!(step_series_terms(0.5), None);
+    assert!(step_series_terms(1e-12).is_some_and(|n| n <= 2));
+}
