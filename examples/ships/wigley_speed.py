@@ -59,9 +59,9 @@ The machine's load average is printed at the start and the end: on a shared mach
 wall times move with it (CPU times less so).
 
 Measured (2 cores, docs/SHIPS.md): the coarsest adequate mesh was 40x8 (640 hull + 320 lid
-panels; worst: heave damping at 4.95 rad/s, 4.8 % off 100x20). On 2026-11-28 at load 1.5 .. 2.8
-its full sweep took Capytaine 42.7 s wall and 67.4 s CPU against our 1.75 s and 3.14 s: 24.5x
-in wall time, 21.4x in CPU time. With --symmetry both Capytaine's Green function part shrinks
+panels; worst: heave damping at 4.95 rad/s, 4.8 % off 100x20). On 2026-11-28 at load 1.1 .. 2.0
+its full sweep took Capytaine 33.3 s wall and 64.0 s CPU against our 0.91 s and 1.81 s: 36.7x
+in wall time, 35.4x in CPU time. With --symmetry both Capytaine's Green function part shrinks
 but its linear solver and matrix-vector products grow: no faster on this mesh (96 s CPU against
 84 s with xz alone, in one run under load).
 The symmetric solves differ slightly from the unsymmetric one on the same panels (0.2 % for xz,

@@ -67,12 +67,25 @@
 //! [`GreenFunction::new`] for `Wave` (about 0.2 ms), and an at most 18-term Taylor series about
 //! the nearest node (step `|h| <= 0.9`, `|h|/|p| <= 0.11`): within `5e-15 (|Q| + |F|)`.
 //! Panel integrals agree with adaptive quadrature within `2e-13` of the integral of the
-//! absolute integrand. On a 100-panel semicircle one wave panel integral costs about 0.2 us
-//! (0.14 us for [`GreenFunction::panel_integral_beyond_dirichlet`], whose Dirichlet complement
-//! does not depend on the frequency).
+//! absolute integrand. On a 100-panel semicircle one wave panel integral costs about 0.4 us
+//! (0.27 us for [`GreenFunction::panel_integral_beyond_dirichlet`], whose Dirichlet complement
+//! does not depend on the frequency; `cargo bench --bench green`, 2026-11-28).
+//!
+//! # Many frequencies on one mesh
+//! A sweep prepares its (field point, panel) pairs once, [`PanelPairs`]: per pair the far
+//! series' part that does not depend on `k` (`g = h/p_c`, `int ds/p`, and the coefficients
+//! `T_n(g)` of `sum_m B_m = sum_n h^n T_n(g)`, so that a frequency costs a short polynomial in
+//! `h = k L/2` instead of the recurrence in `g`), and the distinct far-series arguments
+//! `p_c / k`. A pair and its transpose (or its mirror image in `x = 0`) have conjugate
+//! arguments, `p_c(p, i) = conj p_c(i, p)`, and `Q(conj p) = conj Q(p)`: one `Q` serves both.
+//! `e^{-p_c} = e^{-i k zeta} conj(e^{-i k zeta_c})` takes one exponential per point, and
+//! `ln p_c = ln k + ln(p_c / k)`. [`GreenFunction::panel_integrals_beyond_dirichlet`] gives the
+//! same values as pair by pair to rounding (tested: `5.6e-16` of `1 + |value|`) at about
+//! 0.1 us a pair.
 //!
 //! # Layout
-//! * this file: [`GreenFunction`] (point values and panel integrals) for one [`FreeSurface`];
+//! * this file: [`GreenFunction`] (point values and panel integrals) for one [`FreeSurface`],
+//!   and [`PanelPairs`];
 //! * `panel`: closed-form panel integrals (Rankine log integrals, multipole series, wave part);
 //! * `table`: the tabulated `Q(p)` with Taylor steps;
 //! * `exp_integral`: `E1`, `e^z E1(z)`, `Q = e^{-p} Ei(p)` by series and continued fraction.
