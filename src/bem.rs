@@ -1085,7 +1085,10 @@ mod tests {
                 // Pair by pair (one frequency) against the prepared pairs (measured 2.0e-16).
                 let c = unprepared.solve(surface, irregular).unwrap();
                 let d = difference(&c.added_mass, &a.added_mass);
-                assert!(d <= 2e-15, "{panels} panels, {surface:?}, unprepared: {d:e}");
+                assert!(
+                    d <= 2e-15,
+                    "{panels} panels, {surface:?}, unprepared: {d:e}"
+                );
                 if let (Some(x), Some(y)) = (a.wave_forces, b.wave_forces) {
                     let d = difference(&x.direct, &y.direct);
                     assert!(d <= 1e-12, "{panels} panels, {surface:?}: {d:e}");
