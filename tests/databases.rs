@@ -649,6 +649,54 @@ fn a_ships_girder_mode_keeps_its_name_through_wamit_files() {
 }
 
 #[test]
+fn a_header_cannot_make_a_generalized_mode_rigid() {
+    // A header naming generalized mode 7 'heave' keeps it generalized ('mode7'), with a note:
+    // downstream, DOF names decide what is rigid.
+    use hydrofmu::ship::{strip, Ship, ShipSweepParams};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ships/flexible_barge.xml");
+    let ship = Ship::from_file(&path).unwrap();
+    let mut params = ShipSweepParams::for_ship(&ship);
+    params.omega = vec![0.5, 1.0];
+    params.headings = vec![180.0];
+    params.panels.body_panels = 16;
+    params.panels_with_corners.body_panels = 16;
+    params.extrapolation_levels = 1;
+    params.levels_with_corners = 1;
+    let db = strip::run(&ship, &params, &|_, _| {}).unwrap();
+    let files = wamit::write(&db);
+    assert!(
+        files.radiation.contains("7=vb1"),
+        "{}",
+        &files.radiation[..200]
+    );
+    let radiation = files.radiation.replace("7=vb1", "7=heave");
+    let texts = WamitTexts {
+        radiation: Source {
+            name: "crafted.1",
+            text: &radiation,
+        },
+        excitation: None,
+        hydrostatics: None,
+    };
+    let read = wamit::read("crafted", texts, &WamitParams::default()).unwrap();
+    let names = &read.database.dof_names;
+    assert_eq!(
+        names.iter().filter(|d| *d == "heave").count(),
+        1,
+        "{names:?}"
+    );
+    assert!(names.iter().any(|d| d == "mode7"), "{names:?}");
+    assert!(
+        read.database
+            .notes
+            .iter()
+            .any(|n| n.contains("generalized mode 7 'heave'")),
+        "{:?}",
+        read.database.notes
+    );
+}
+
+#[test]
 fn a_database_written_as_a_capytaine_dataset_reads_back() {
     use hydrofmu::database::capytaine;
     let db = sphere();

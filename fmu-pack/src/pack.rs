@@ -499,6 +499,13 @@ pub fn pack_network(
         let path = format!("{}/{name}", crate::osp::ARCHIVE_DIR);
         entries.push((path, osp.clone().into_bytes()));
     }
+    // What the archive holds must instantiate: load its resources as an instance does.
+    Model::from_resources(&resources).map_err(|e| {
+        PackError(format!(
+            "not written: {} would not instantiate: {e}",
+            output.display()
+        ))
+    })?;
     write_zip(output, &entries)?;
     let osp = crate::osp::write_beside(output, &model_name, &osp)?;
     Ok(PackSummary {

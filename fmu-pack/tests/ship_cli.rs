@@ -134,4 +134,19 @@ fn ship_errors_name_the_file_and_the_option() {
         "-",
     ]);
     assert!(!ok && err.contains("--headings: 'x'"), "{err}");
+    // One direction twice would make an archive that does not instantiate: no archive.
+    let archive = std::env::temp_dir().join(format!("hydrofmu-360-{}.fmu", std::process::id()));
+    let (ok, _, err) = fmu_pack(&[
+        "pack",
+        &example("barge.xml"),
+        "--headings",
+        "0,360",
+        "-o",
+        archive.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && err.contains("headings 0 and 360 are the same direction"),
+        "{err}"
+    );
+    assert!(!archive.exists());
 }

@@ -717,10 +717,20 @@ pub fn read(
     let dof_names: Vec<String> = modes
         .iter()
         .map(|&m| {
-            named
-                .iter()
-                .find(|(k, _)| *k == m && m > 6)
-                .map_or_else(|| mode_name(m), |(_, name)| name.clone())
+            let given = named.iter().find(|(k, _)| *k == m && m > 6);
+            match given {
+                // A rigid mode's name would make the generalized mode rigid downstream.
+                Some((_, name)) if RIGID_MODES.contains(&name.as_str()) => {
+                    notes.push(format!(
+                        "{radiation_file}: the header names generalized mode {m} '{name}', a \
+                         rigid mode's name: kept as '{}'",
+                        mode_name(m)
+                    ));
+                    mode_name(m)
+                }
+                Some((_, name)) => name.clone(),
+                None => mode_name(m),
+            }
         })
         .collect();
     if let Some(k) = (1..dof_names.len()).find(|&k| dof_names[..k].contains(&dof_names[k])) {

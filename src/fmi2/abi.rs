@@ -289,15 +289,21 @@ unsafe fn text<'a>(ptr: fmi2String) -> Option<&'a str> {
     unsafe { CStr::from_ptr(ptr) }.to_str().ok()
 }
 
-/// The stored state behind `state`, if it is one of ours.
+/// The stored state behind `state`, if `inst` issued it and has not freed it (no other
+/// pointer is dereferenced: a foreign one may not be readable).
 ///
 /// # Safety
-/// `state` is NULL or points to at least 8 readable bytes.
-unsafe fn stored_state(state: fmi2FMUstate) -> Result<*mut StoredState, String> {
+/// A state `inst` issued is a live `StoredState` (freed ones leave the set first).
+unsafe fn stored_state(inst: &Instance, state: fmi2FMUstate) -> Result<*mut StoredState, String> {
     if state.is_null() {
         return Err("FMUstate is NULL".to_string());
     }
-    let not_ours = || "FMUstate is not a state of this FMU".to_string();
+    let not_ours = || {
+        "FMUstate is not a state of this instance (fmi2GetFMUstate or fmi2DeSerializeFMUstate of this instance issues them; freed ones are gone)".to_string()
+    };
+    if !inst.issued_state(state as usize) {
+        return Err(not_ours());
+    }
     if (state as usize) % std::mem::align_of::<StoredState>() != 0 {
         return Err(not_ours());
     }
@@ -315,9 +321,9 @@ unsafe fn stored_state(state: fmi2FMUstate) -> Result<*mut StoredState, String> 
 ///
 /// # Safety
 /// As [`stored_state`]; a state of ours is not used elsewhere during the call.
-unsafe fn snapshot<'a>(state: fmi2FMUstate) -> Result<&'a Snapshot, String> {
+unsafe fn snapshot<'a>(inst: &Instance, state: fmi2FMUstate) -> Result<&'a Snapshot, String> {
     // SAFETY: the caller's contract.
-    let stored = unsafe { stored_state(state) }?;
+    let stored = unsafe { stored_state(inst, state) }?;
     // SAFETY: a live StoredState (magic checked; fmi2FreeFMUstate clears it), only read.
     let stored = unsafe { &*stored };
     stored
@@ -333,8 +339,9 @@ unsafe fn snapshot<'a>(state: fmi2FMUstate) -> Result<&'a Snapshot, String> {
 /// Unless NULL, `target` points to a readable and writable `fmi2FMUstate`, which is NULL or
 /// as for [`stored_state`].
 unsafe fn with_state_slot(
+    inst: &mut Instance,
     target: *mut fmi2FMUstate,
-    save: impl FnOnce(&mut Option<Snapshot>) -> Status,
+    save: impl FnOnce(&mut Instance, &mut Option<Snapshot>) -> Status,
 ) -> Result<Status, String> {
     if target.is_null() {
         return Err("FMUstate pointer is NULL".to_string());
@@ -343,22 +350,23 @@ unsafe fn with_state_slot(
     let existing = unsafe { target.read() };
     if existing.is_null() {
         let mut slot = None;
-        let status = save(&mut slot);
+        let status = save(inst, &mut slot);
         if slot.is_some() {
-            let stored = Box::new(StoredState {
+            let stored = Box::into_raw(Box::new(StoredState {
                 magic: SNAPSHOT_MAGIC,
                 snapshot: slot,
-            });
+            }));
+            inst.record_issued_state(stored as usize);
             // SAFETY: non-null and writable (caller).
-            unsafe { target.write(Box::into_raw(stored) as fmi2FMUstate) };
+            unsafe { target.write(stored as fmi2FMUstate) };
         }
         return Ok(status);
     }
     // SAFETY: the caller's contract.
-    let stored = unsafe { stored_state(existing) }?;
-    // SAFETY: a live StoredState of ours (magic checked), used by nothing else meanwhile.
+    let stored = unsafe { stored_state(inst, existing) }?;
+    // SAFETY: a live StoredState this instance issued, used by nothing else meanwhile.
     let slot = unsafe { &mut (*stored).snapshot };
-    Ok(save(slot))
+    Ok(save(inst, slot))
 }
 
 /// Frees the state `*FMUstate` points to and sets it to NULL (a NULL state is a no-op).
@@ -375,8 +383,9 @@ unsafe fn free_state(inst: &mut Instance, FMUstate: *mut fmi2FMUstate) -> Result
     if state.is_null() {
         return Ok(inst.free_fmu_state(None));
     }
-    // SAFETY: the master passes a state from fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-    let stored = unsafe { stored_state(state) }?;
+    // SAFETY: checked against the states this instance issued.
+    let stored = unsafe { stored_state(inst, state) }?;
+    inst.forget_issued_state(state as usize);
     // SAFETY: a live StoredState made by Box::into_raw in `with_state_slot`, nothing
     // borrows it; the magic is cleared so that a second free is refused, and the
     // master's pointer is set to NULL.
@@ -811,7 +820,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 unsafe fn get_state(magic: u64, c: fmi2Component, target: *mut fmi2FMUstate) -> fmi2Status {
     let body = |inst: &mut Instance| {
         // SAFETY: the caller's contract.
-        unsafe { with_state_slot(target, |slot| inst.get_fmu_state(slot)) }
+        unsafe { with_state_slot(inst, target, |inst, slot| inst.get_fmu_state(slot)) }
     };
     // SAFETY: the caller's contract.
     unsafe { call_of(magic, c, Function::GetFmuState, body) }
@@ -824,7 +833,7 @@ unsafe fn get_state(magic: u64, c: fmi2Component, target: *mut fmi2FMUstate) -> 
 unsafe fn set_state(magic: u64, c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     let body = |inst: &mut Instance| {
         // SAFETY: the caller's contract.
-        let saved = unsafe { snapshot(state) }?;
+        let saved = unsafe { snapshot(inst, state) }?;
         Ok(inst.set_fmu_state(saved))
     };
     // SAFETY: the caller's contract.
@@ -854,7 +863,7 @@ unsafe fn serialized_size(
 ) -> fmi2Status {
     let body = |inst: &mut Instance| {
         // SAFETY: the caller's contract.
-        let saved = unsafe { snapshot(state) }?;
+        let saved = unsafe { snapshot(inst, state) }?;
         // SAFETY: the caller's contract.
         let size = unsafe { out(size, "size") }?;
         Ok(inst.serialized_fmu_state_size(saved, size))
@@ -876,7 +885,7 @@ unsafe fn serialize(
 ) -> fmi2Status {
     let body = |inst: &mut Instance| {
         // SAFETY: the caller's contract.
-        let saved = unsafe { snapshot(state) }?;
+        let saved = unsafe { snapshot(inst, state) }?;
         // SAFETY: the caller's contract.
         let bytes = unsafe { slice_mut(buffer, size, "serializedState") }?;
         Ok(inst.serialize_fmu_state(saved, bytes))
@@ -900,7 +909,11 @@ unsafe fn deserialize(
         // SAFETY: the caller's contract.
         let bytes = unsafe { slice(buffer, size, "serializedState") }?;
         // SAFETY: the caller's contract.
-        unsafe { with_state_slot(target, |slot| inst.deserialize_fmu_state(bytes, slot)) }
+        unsafe {
+            with_state_slot(inst, target, |inst, slot| {
+                inst.deserialize_fmu_state(bytes, slot)
+            })
+        }
     };
     // SAFETY: the caller's contract.
     unsafe { call_of(magic, c, Function::DeSerializeFmuState, body) }

@@ -22,6 +22,7 @@ use super::uri::resource_path;
 use crate::fmu::description::MAX_OUTPUT_DERIVATIVE_ORDER;
 use crate::fmu::{DofUnit, Layout, Quantity};
 use crate::model::{Model, ModelState, Resources};
+use std::collections::HashSet;
 use std::ffi::{CStr, CString};
 
 /// One FMU instance (behind an `fmi2Component`).
@@ -33,6 +34,9 @@ pub struct Instance {
     model: Model,
     layout: Layout,
     standard: Standard,
+    /// Addresses of the FMU states this instance issued and has not freed: the C layer
+    /// dereferences no state pointer outside this set.
+    issued_states: HashSet<usize>,
 }
 
 /// A saved FMU state (behind an `fmi2FMUstate`): the model state and the phase.
@@ -116,6 +120,7 @@ impl Instance {
             model,
             layout,
             standard: Standard::Fmi2,
+            issued_states: HashSet::new(),
         };
         let text = format!(
             "instantiated: {} DOFs ({}), {} network states",
@@ -564,14 +569,35 @@ impl Instance {
     pub fn set_fmu_state(&mut self, saved: &Snapshot) -> Status {
         self.run(Function::SetFmuState, |inst| {
             inst.check_own(saved)?;
+            // The sea exists from the end of initialization on; in the error phase, as it is.
+            let waves_started = match saved.phase {
+                Phase::Instantiated | Phase::InitializationMode => false,
+                Phase::StepComplete | Phase::Terminated => true,
+                Phase::Error | Phase::Fatal => inst.model.waves_started(),
+            };
             inst.model
-                .set_state(saved.state.clone())
+                .set_state_and_waves(saved.state.clone(), waves_started)
                 .map_err(|e| e.to_string())?;
             inst.phase = saved.phase;
             let text = format!("state restored at t = {}", inst.model.time());
             inst.log(Status::Ok, Category::Events, text);
             Ok(Status::Ok)
         })
+    }
+
+    /// Records the address of an FMU state the C layer issued for this instance.
+    pub fn record_issued_state(&mut self, address: usize) {
+        self.issued_states.insert(address);
+    }
+
+    /// Whether this instance issued the FMU state at `address` and has not freed it.
+    pub fn issued_state(&self, address: usize) -> bool {
+        self.issued_states.contains(&address)
+    }
+
+    /// Forgets a freed FMU state's address.
+    pub fn forget_issued_state(&mut self, address: usize) {
+        self.issued_states.remove(&address);
     }
 
     /// fmi2FreeFMUstate: drops a saved state (`None`: nothing to free).

@@ -386,6 +386,11 @@ impl Model {
         Ok(model)
     }
 
+    /// Whether the sea has been started ([`Model::start_waves`]).
+    pub fn waves_started(&self) -> bool {
+        self.waves_started
+    }
+
     /// Builds the sea of the wave parameters (when initialization ends: the parameters, rho,
     /// g and the start time are final). Returns the sea's notes (fallbacks, energy left
     /// out). Calm water needs no table; waves without one are an error naming the cause.
@@ -543,14 +548,26 @@ impl Model {
     /// within their limits, a consistent time); rho or g changes re-realize. On error
     /// nothing changes.
     pub fn set_state(&mut self, state: ModelState) -> Result<(), ModelError> {
+        self.set_state_and_waves(state, self.waves_started)
+    }
+
+    /// As [`Model::set_state`], with the sea started (`waves_started`: built from the state's
+    /// wave parameters, as [`Model::start_waves`] does) or not: a state saved after
+    /// initialization brings its sea into an instance that was only instantiated.
+    pub fn set_state_and_waves(
+        &mut self,
+        state: ModelState,
+        waves_started: bool,
+    ) -> Result<(), ModelError> {
         let system = self.check_state(&state)?;
         let stepper = system.as_ref().map(Stepper::new).transpose()?;
         // The sea of the restored parameters, built before anything changes.
-        let sea = if self.waves_started {
+        let sea = if waves_started {
             self.build_sea(&state)?
         } else {
             None
         };
+        self.waves_started = waves_started;
         if let (Some(system), Some(stepper)) = (system, stepper) {
             self.system = system;
             self.stepper = stepper;

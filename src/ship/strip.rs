@@ -331,6 +331,19 @@ pub fn run(
     if let Some(h) = params.headings.iter().find(|h| !h.is_finite()) {
         return Err(bad(format!("heading {h} is not finite")));
     }
+    // Headings are directions: two equal modulo 360 would be one table column twice.
+    for (k, &a) in params.headings.iter().enumerate() {
+        let same = |b: f64| {
+            let d = (a - b).rem_euclid(360.0);
+            d.min(360.0 - d) < crate::waves::HEADING_TOLERANCE
+        };
+        if let Some(&b) = params.headings[..k].iter().find(|&&b| same(b)) {
+            return Err(bad(format!(
+                "headings {b} and {a} are the same direction (equal modulo 360 degrees): give \
+                 each once"
+            )));
+        }
+    }
     if let Some(w) = params.omega.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
         return Err(bad(format!(
             "frequency {w} rad/s must be positive and finite"

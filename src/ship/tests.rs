@@ -667,3 +667,22 @@ fn sections_of_the_same_shape_under_other_names_are_solved_once() {
     // a and c are one shape; b and d differ in half-beam.
     assert_eq!(ship.sections().len(), 3);
 }
+
+#[test]
+fn headings_equal_modulo_360_are_refused_before_any_solve() {
+    // Two headings of one direction would make one table column twice (an archive that does
+    // not instantiate): refused with both named.
+    let ship = prismatic(&[-1.0, 0.0, 1.0], "<semicircle radius=\"1\"/>", "");
+    for (headings, named) in [
+        (vec![0.0, 360.0], "headings 0 and 360"),
+        (vec![90.0, 180.0, -270.0], "headings 90 and -270"),
+        (vec![45.0, 45.0 + 1e-12], "are the same direction"),
+    ] {
+        let e = run(&ship, &params(&ship, &[1.0], &headings), &|_, _| {})
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(named), "{headings:?}: {e}");
+    }
+    // Close but distinct directions stay.
+    assert!(run(&ship, &params(&ship, &[1.0], &[0.0, 359.9]), &|_, _| {}).is_ok());
+}

@@ -48,6 +48,12 @@ pub const MAX_COMPONENTS: usize = 10_000;
 /// Tolerance on the heading (degrees): 0 and 180 are accepted within it, modulo 360.
 pub const HEADING_TOLERANCE: f64 = 1e-9;
 
+/// The largest JONSWAP peak enhancement accepted. DNV-RP-C205's normalization
+/// `1 - 0.287 ln gamma` is for 1..7; measured, the variance falls 3.2 % short of `Hs^2/16` at 8
+/// and 6.9 % at 10 (a warning above 7), 39 % at 20 and 61 % at 25, and the factor is negative
+/// from 32.6.
+pub const MAX_GAMMA: f64 = 10.0;
+
 /// Why a sea could not be built.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -163,7 +169,8 @@ pub struct WaveParams {
     pub period: f64,
     /// Heading in degrees: 0 (towards +x) or 180 (towards -x), modulo 360. Default 0.
     pub heading: f64,
-    /// JONSWAP peak enhancement (>= 1; 1 is Pierson-Moskowitz; DNV's range 1..7). Default 3.3.
+    /// JONSWAP peak enhancement (1..=[`MAX_GAMMA`]; 1 is Pierson-Moskowitz; DNV's range 1..7).
+    /// Default 3.3.
     pub gamma: f64,
     /// JONSWAP seed: the same seed gives the same record bit for bit. Default 1.
     pub seed: i32,
@@ -194,8 +201,8 @@ impl WaveParams {
     ///
     /// # Errors
     /// Height < 0 or non-finite, period <= 0 or non-finite, heading non-finite (which
-    /// headings exist is the excitation table's to say, when the sea is built), gamma < 1 or
-    /// non-finite, components 0 or above [`MAX_COMPONENTS`], ramp < 0 or non-finite.
+    /// headings exist is the excitation table's to say, when the sea is built), gamma outside
+    /// 1..=[`MAX_GAMMA`] or non-finite, components 0 or above [`MAX_COMPONENTS`], ramp < 0 or non-finite.
     pub fn validate(&self) -> Result<Vec<String>, WaveError> {
         if !(self.height.is_finite() && self.height >= 0.0) {
             return Err(WaveError::parameter(
@@ -212,11 +219,15 @@ impl WaveParams {
             ));
         }
         heading_direction(self.heading)?;
-        if !(self.gamma.is_finite() && self.gamma >= 1.0) {
+        if !(self.gamma.is_finite() && (1.0..=MAX_GAMMA).contains(&self.gamma)) {
             return Err(WaveError::parameter(
                 "wave.gamma",
                 self.gamma,
-                "must be finite and >= 1 (1: Pierson-Moskowitz)",
+                &format!(
+                    "must be 1..={MAX_GAMMA} (1: Pierson-Moskowitz; beyond {MAX_GAMMA} DNV's \
+                     normalization 1 - 0.287 ln gamma leaves the sea's variance far below \
+                     Hs^2/16: 0.61 of it at 20, 0.39 at 25, negative from 32.6)"
+                ),
             ));
         }
         if self.components == 0 || self.components > MAX_COMPONENTS {
@@ -237,7 +248,8 @@ impl WaveParams {
         if self.kind == WaveKind::Jonswap && self.gamma > 7.0 {
             warnings.push(format!(
                 "wave.gamma = {} is outside DNV-RP-C205's range 1..7: the spectrum's \
-                 normalization (1 - 0.287 ln gamma) is less accurate there",
+                 normalization (1 - 0.287 ln gamma) is less accurate there (the variance 3.2 % \
+                 below Hs^2/16 at 8, 6.9 % at 10)",
                 self.gamma
             ));
         }

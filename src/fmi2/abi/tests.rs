@@ -68,6 +68,16 @@ pub(super) struct Unpacked {
 
 impl Unpacked {
     pub(super) fn new(network: &str, keep: bool, folder_name: &str) -> Unpacked {
+        Self::with_files(network, keep, folder_name, &[])
+    }
+
+    /// As [`Unpacked::new`], with more resource files `(name, text)`.
+    pub(super) fn with_files(
+        network: &str,
+        keep: bool,
+        folder_name: &str,
+        files: &[(&str, &str)],
+    ) -> Unpacked {
         let dir = std::env::temp_dir().join(format!(
             "hydrofmu-fmi2-{}-{}",
             std::process::id(),
@@ -81,6 +91,9 @@ impl Unpacked {
             Resources::options_text(keep),
         )
         .unwrap();
+        for (name, text) in files {
+            std::fs::write(resources.join(name), text).unwrap();
+        }
         let guid = Resources::read(&resources).unwrap().guid();
         Unpacked {
             dir: resources,
@@ -758,6 +771,17 @@ fn serialized_state_restores_in_another_instance() {
         );
         // Overwrite an existing snapshot in place (FMI allows reuse of *FMUstate).
         assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
+        // Another instance's state, a readable buffer that is not a state and an address
+        // that is not mapped are refused without being read, and left as they are.
+        let fake = [0u64; 8];
+        let unmapped = 0x1000 as fmi2FMUstate;
+        for foreign in [st, fake.as_ptr() as fmi2FMUstate, unmapped] {
+            assert_eq!(fmi2SetFMUstate(b, foreign), fmi2Error);
+            let mut held = foreign;
+            assert_eq!(fmi2FreeFMUstate(b, &mut held), fmi2Error);
+            assert_eq!(held, foreign);
+            assert_eq!(fmi2Reset(b), fmi2OK);
+        }
         assert_eq!(fmi2FreeFMUstate(a, &mut st), fmi2OK);
 
         let mut restored: fmi2FMUstate = std::ptr::null_mut();
@@ -779,9 +803,113 @@ fn serialized_state_restores_in_another_instance() {
             fmi2Error
         );
         assert!(foreign.is_null());
+        // A freed state is no longer this instance's: refused, its memory not read.
+        assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
+        let stale = st;
+        assert_eq!(fmi2FreeFMUstate(a, &mut st), fmi2OK);
+        assert_eq!(fmi2SetFMUstate(a, stale), fmi2Error);
         fmi2FreeInstance(o);
         fmi2FreeInstance(a);
         fmi2FreeInstance(b);
+    }
+}
+
+#[test]
+fn a_state_saved_in_a_sea_brings_the_sea_into_an_instance_only_instantiated() {
+    // As fmusim's --initial-fmu-state-file does: the state of an instance in a regular sea,
+    // serialized, restored into an instance that was only instantiated. Its sea must be the
+    // saved one (it was lost: exciting force and elevation 0 with fmi2OK).
+    use crate::fmu::variables::{Layout, Quantity};
+    use crate::fmu::DofUnit;
+    use crate::model::tests::TWO_DOF_EXCITATION;
+    let fmu = Unpacked::with_files(
+        TWO_DOF_NETWORK,
+        false,
+        "resources",
+        &[(Resources::EXCITATION_FILE, TWO_DOF_EXCITATION)],
+    );
+    let dofs = ["sway", "roll"].map(|n| DofUnit::new(n, 0, false)).to_vec();
+    let layout = Layout::new(dofs, false).unwrap();
+    let vr = |q| layout.value_reference(q).unwrap();
+    let watched = [
+        vr(Quantity::ForceExcitation(0)),
+        vr(Quantity::ForceExcitation(1)),
+        vr(Quantity::WaveElevation),
+    ];
+    let log = Log::default();
+    let f = callbacks(&log);
+    let a = instantiate(&fmu, &fmu.uri(), &f, false);
+    let b = instantiate(&fmu, &fmu.uri(), &f, false);
+    // SAFETY: see the module docs.
+    unsafe {
+        let kind = [1]; // regular
+        let kind_vr = [vr(Quantity::Wave(
+            crate::fmu::variables::WaveParameter::Kind,
+        ))];
+        assert_eq!(
+            fmi2SetInteger(a, kind_vr.as_ptr(), 1, kind.as_ptr()),
+            fmi2OK
+        );
+        set(
+            a,
+            &[
+                VR_RHO,
+                VR_G,
+                vr(Quantity::Wave(crate::fmu::variables::WaveParameter::Period)),
+            ],
+            &[1000.0, 9.8, 4.0],
+        );
+        assert_eq!(fmi2SetupExperiment(a, 0, 0.0, 0.0, 0, 0.0), fmi2OK);
+        assert_eq!(fmi2EnterInitializationMode(a), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(a), fmi2OK);
+        for k in 0..7 {
+            assert_eq!(fmi2DoStep(a, 0.1 * k as f64, 0.1, 1), fmi2OK);
+        }
+        let saved = get(a, &watched);
+        assert!(saved.iter().all(|v| *v != 0.0), "{saved:?}");
+        let mut st: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
+        let mut size = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(a, st, &mut size), fmi2OK);
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(a, st, bytes.as_mut_ptr(), size),
+            fmi2OK
+        );
+        let mut restored: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(b, bytes.as_ptr(), size, &mut restored),
+            fmi2OK
+        );
+        assert_eq!(fmi2SetFMUstate(b, restored), fmi2OK);
+        assert_eq!(get(b, &watched), saved);
+        assert_eq!(fmi2DoStep(a, 0.7, 0.1, 1), fmi2OK);
+        assert_eq!(fmi2DoStep(b, 0.7, 0.1, 1), fmi2OK);
+        assert_eq!(get(b, &watched), get(a, &watched));
+        // A state saved before initialization brings that phase back (the sea is built
+        // again when its initialization ends).
+        let c = instantiate(&fmu, &fmu.uri(), &f, false);
+        let mut early: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(c, &mut early), fmi2OK);
+        assert_eq!(fmi2SerializedFMUstateSize(c, early, &mut size), fmi2OK);
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(c, early, bytes.as_mut_ptr(), size),
+            fmi2OK
+        );
+        let mut back: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(b, bytes.as_ptr(), size, &mut back),
+            fmi2OK
+        );
+        assert_eq!(fmi2SetFMUstate(b, back), fmi2OK);
+        assert_eq!(phase(b), Phase::Instantiated);
+        for (inst, mut state) in [(a, st), (b, restored), (b, back), (c, early)] {
+            assert_eq!(fmi2FreeFMUstate(inst, &mut state), fmi2OK);
+        }
+        for inst in [a, b, c] {
+            fmi2FreeInstance(inst);
+        }
     }
 }
 
