@@ -71,6 +71,16 @@ fn close(a: f64, b: f64, relative: f64) -> bool {
 #[test]
 fn the_hemisphere_parses_to_the_files_values_in_si() {
     let db = sphere();
+    // The source names the file, not the folder it was read from (archives carry it).
+    assert_eq!(db.source, "imported from WAMIT files (sphere.1)");
+    let dir = std::env::temp_dir().display().to_string();
+    let mut table = Vec::new();
+    db.write_excitation_table(&mut table).unwrap();
+    let written = String::from_utf8(table).unwrap();
+    assert!(
+        written.contains("(sphere.1)") && !written.contains(&dir),
+        "{written}"
+    );
     assert_eq!(
         db.dof_names,
         ["surge", "sway", "heave", "roll", "pitch", "yaw"]

@@ -182,7 +182,17 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
         ));
     }
     finish(&mut database, imported.added_mass_inf_given, params)?;
+    // Archives carry the source: the file's name, not the machine's folders.
+    database.source = format!("imported from WAMIT files ({})", file_name(path));
     Ok(database)
+}
+
+/// The last component of `path` (what a database written elsewhere names as its source).
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 /// Imports a Capytaine NetCDF-3 dataset.
@@ -196,6 +206,7 @@ fn import_netcdf(path: &Path, params: &ImportParams) -> Result<Database, Databas
     let imported = capytaine::read(&stem, bytes, &name, &params.wamit)?;
     let mut database = imported.database;
     finish(&mut database, imported.added_mass_inf_given, params)?;
+    database.source = format!("imported from a Capytaine dataset ({})", file_name(path));
     Ok(database)
 }
 
