@@ -390,7 +390,8 @@ impl Problem {
     }
 
     /// As [`Problem::new`]; `prepare = false` leaves the wave part's pairs unprepared (for a
-    /// single frequency, where preparing costs more than it saves).
+    /// single frequency, where preparing costs more than it saves), as does a mesh of more
+    /// than [`MAX_PREPARED_PAIRS`] pairs.
     fn with_pairs(mesh: Mesh, prepare: bool) -> Result<Self, BemError> {
         let green = GreenFunction::new(FreeSurface::Dirichlet)?;
         let unknowns = mesh.body.len() + mesh.lid.len();
@@ -405,6 +406,13 @@ impl Problem {
                 kernel: |x, a, b| green.panel_integral(x, a, b),
             },
         );
+        // Prepared pairs take about 0.3 kB each, some 20 times the dense system's entries:
+        // above the bound a fine mesh evaluates pair by pair (its factorization dominates).
+        let rows = match &mirror {
+            Some(m) => (0..unknowns).filter(|&i| m[i] >= i).count(),
+            None => unknowns,
+        };
+        let prepare = prepare && rows * unknowns <= MAX_PREPARED_PAIRS;
         let wave_pairs = prepare.then(|| WavePairs::new(&mesh, mirror.as_deref()));
         Ok(Self {
             mesh,
@@ -836,6 +844,11 @@ fn solve_system(
         wave_forces,
     })
 }
+
+/// Most (collocation point, panel) pairs a [`Problem`] prepares for many frequencies (about
+/// 0.3 kB each, 0.3 GB in all, panel means aside): up to about 1450 body and lid panels on a
+/// symmetric hull, 1024 on another. A finer mesh evaluates pair by pair.
+pub const MAX_PREPARED_PAIRS: usize = 1 << 20;
 
 /// Pairs of panels closer than this many panel lengths get the panel-averaged potential.
 const NEAR_FIELD_RATIO: f64 = 3.0;
