@@ -652,7 +652,7 @@ Conventions: {axes}; force = force on the hull by the water.</p>
 <li>DOFs: {dofs}</li>
 <li>Network states: {states}</li>
 <li>{usage}</li>
-<li>Power = -force . velocity (delivered to the water); energy = energy stored in the network.</li>
+<li>Power = -force_radiation . velocity (delivered to the water through the radiated waves; the exciting force's work is not in it); energy = energy stored in the network.</li>
 <li>rho and g (fixed parameters) rescale the network exactly.</li>
 </ul>
 <h2>Coefficients at rho = {rho}, g = {g}</h2>

@@ -174,7 +174,8 @@ pub enum Quantity {
     AddedMassInf(usize, usize),
     /// Direct damping entry (calculated parameter).
     DampingDirect(usize, usize),
-    /// Power the hull delivers to the water (output).
+    /// Power the hull delivers to the water through the radiated waves,
+    /// `-force_radiation . velocity` (output).
     Power,
     /// Radiation part of the force (output).
     ForceRadiation(usize),
@@ -377,7 +378,9 @@ impl Layout {
             quantity: Quantity::Power,
             causality: Causality::Output,
             unit: extent.power_unit(),
-            description: "Power the hull delivers to the water, -force . velocity".into(),
+            description: "Power the hull delivers to the water through the radiated waves, \
+                          -force_radiation . velocity (work of the exciting force excluded)"
+                .into(),
             start: None,
             integer: false,
         });
