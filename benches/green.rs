@@ -8,7 +8,7 @@
 //! ```
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hydrofmu::green::{self, FreeSurface, GreenFunction, PanelPairs, Point};
+use hydrofmu::green::{self, FreeSurface, GreenFunction, PanelIntegral, PanelPairs, Point};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -71,15 +71,17 @@ fn green_function(c: &mut Criterion) {
     });
     let nodes = semicircle_nodes();
     let centres = centres(&nodes);
-    let sweep = |g: &GreenFunction| {
+    // Sum of d/dy over every (centre, panel) pair of the semicircle.
+    let over_pairs = |integral: &dyn Fn(Point, Point, Point) -> PanelIntegral| {
         let mut acc = Complex64::new(0.0, 0.0);
         for x in &centres {
             for w in nodes.windows(2) {
-                acc += g.panel_integral(*x, w[0], w[1]).gradient[1];
+                acc += integral(*x, w[0], w[1]).gradient[1];
             }
         }
         acc
     };
+    let sweep = |g: &GreenFunction| over_pairs(&|x, a, b| g.panel_integral(x, a, b));
     let rigid = GreenFunction::new(FreeSurface::RigidLid).unwrap();
     c.bench_function(
         "panel integrals, rigid lid, 100-panel semicircle (10^4)",
@@ -94,15 +96,8 @@ fn green_function(c: &mut Criterion) {
         |b| b.iter(|| waves.iter().map(|g| sweep(black_box(g))).sum::<Complex64>()),
     );
     // The wave part alone, pair by pair and from prepared pairs (what a sweep does).
-    let beyond = |g: &GreenFunction| {
-        let mut acc = Complex64::new(0.0, 0.0);
-        for x in &centres {
-            for w in nodes.windows(2) {
-                acc += g.panel_integral_beyond_dirichlet(*x, w[0], w[1]).gradient[1];
-            }
-        }
-        acc
-    };
+    let beyond =
+        |g: &GreenFunction| over_pairs(&|x, a, b| g.panel_integral_beyond_dirichlet(x, a, b));
     c.bench_function(
         "wave part, pair by pair, 100-panel semicircle at 20 kR (2 x 10^5)",
         |b| {

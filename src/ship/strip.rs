@@ -333,11 +333,8 @@ pub fn run(
     }
     // Headings are directions: two equal modulo 360 would be one table column twice.
     for (k, &a) in params.headings.iter().enumerate() {
-        let same = |b: f64| {
-            let d = (a - b).rem_euclid(360.0);
-            d.min(360.0 - d) < crate::waves::HEADING_TOLERANCE
-        };
-        if let Some(&b) = params.headings[..k].iter().find(|&&b| same(b)) {
+        let same = |&&b: &&f64| crate::waves::same_direction(a, b);
+        if let Some(&b) = params.headings[..k].iter().find(same) {
             return Err(bad(format!(
                 "headings {b} and {a} are the same direction (equal modulo 360 degrees): give \
                  each once"

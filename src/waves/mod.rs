@@ -257,6 +257,13 @@ impl WaveParams {
     }
 }
 
+/// Whether two headings (degrees) are one direction: equal modulo 360 within
+/// [`HEADING_TOLERANCE`].
+pub fn same_direction(a: f64, b: f64) -> bool {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d) <= HEADING_TOLERANCE
+}
+
 /// The heading reduced to 0 or 180 degrees.
 fn heading_direction(heading: f64) -> Result<f64, WaveError> {
     if heading.is_finite() {

@@ -282,7 +282,9 @@ impl ExcitationTable {
     /// The index of `heading` (degrees, modulo 360, within 1e-9) in [`Self::headings`].
     pub fn heading_index(&self, heading: f64) -> Option<usize> {
         let reduced = normalize_heading(heading)?;
-        self.headings.iter().position(|&h| same_heading(h, reduced))
+        self.headings
+            .iter()
+            .position(|&h| super::same_direction(h, reduced))
     }
 
     /// The tabulated `X_j / (rho g a R^(1 + e_j))` of mode `mode` (0-based), heading
@@ -489,10 +491,6 @@ fn normalize_heading(heading: f64) -> Option<f64> {
     })
 }
 
-fn same_heading(a: f64, b: f64) -> bool {
-    (a - b).abs() <= super::HEADING_TOLERANCE
-}
-
 #[derive(Default)]
 struct Header {
     hull: Option<String>,
@@ -661,7 +659,7 @@ fn parse_row(
     let heading_value = normalize_heading(heading_value).unwrap_or(heading_value);
     let heading = match headings
         .iter()
-        .position(|&h| same_heading(h, heading_value))
+        .position(|&h| super::same_direction(h, heading_value))
     {
         Some(index) => index,
         None => {

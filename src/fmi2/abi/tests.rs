@@ -814,6 +814,33 @@ fn serialized_state_restores_in_another_instance() {
     }
 }
 
+/// Saves `from`'s state, serializes it, deserializes the bytes into `to` and sets it there;
+/// returns both states (to be freed by their instances).
+///
+/// # Safety
+/// `from` and `to` are live components of the same FMU.
+unsafe fn move_state(from: fmi2Component, to: fmi2Component) -> (fmi2FMUstate, fmi2FMUstate) {
+    let mut saved: fmi2FMUstate = std::ptr::null_mut();
+    let mut restored: fmi2FMUstate = std::ptr::null_mut();
+    // SAFETY: live components (caller); pointers to locals and a buffer of `size` bytes.
+    unsafe {
+        assert_eq!(fmi2GetFMUstate(from, &mut saved), fmi2OK);
+        let mut size = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(from, saved, &mut size), fmi2OK);
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(from, saved, bytes.as_mut_ptr(), size),
+            fmi2OK
+        );
+        assert_eq!(
+            fmi2DeSerializeFMUstate(to, bytes.as_ptr(), size, &mut restored),
+            fmi2OK
+        );
+        assert_eq!(fmi2SetFMUstate(to, restored), fmi2OK);
+    }
+    (saved, restored)
+}
+
 #[test]
 fn a_state_saved_in_a_sea_brings_the_sea_into_an_instance_only_instantiated() {
     // As fmusim's --initial-fmu-state-file does: the state of an instance in a regular sea,
@@ -867,21 +894,7 @@ fn a_state_saved_in_a_sea_brings_the_sea_into_an_instance_only_instantiated() {
         }
         let saved = get(a, &watched);
         assert!(saved.iter().all(|v| *v != 0.0), "{saved:?}");
-        let mut st: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(fmi2GetFMUstate(a, &mut st), fmi2OK);
-        let mut size = 0;
-        assert_eq!(fmi2SerializedFMUstateSize(a, st, &mut size), fmi2OK);
-        let mut bytes = vec![0 as c_char; size];
-        assert_eq!(
-            fmi2SerializeFMUstate(a, st, bytes.as_mut_ptr(), size),
-            fmi2OK
-        );
-        let mut restored: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(
-            fmi2DeSerializeFMUstate(b, bytes.as_ptr(), size, &mut restored),
-            fmi2OK
-        );
-        assert_eq!(fmi2SetFMUstate(b, restored), fmi2OK);
+        let (st, restored) = move_state(a, b);
         assert_eq!(get(b, &watched), saved);
         assert_eq!(fmi2DoStep(a, 0.7, 0.1, 1), fmi2OK);
         assert_eq!(fmi2DoStep(b, 0.7, 0.1, 1), fmi2OK);
@@ -889,20 +902,7 @@ fn a_state_saved_in_a_sea_brings_the_sea_into_an_instance_only_instantiated() {
         // A state saved before initialization brings that phase back (the sea is built
         // again when its initialization ends).
         let c = instantiate(&fmu, &fmu.uri(), &f, false);
-        let mut early: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(fmi2GetFMUstate(c, &mut early), fmi2OK);
-        assert_eq!(fmi2SerializedFMUstateSize(c, early, &mut size), fmi2OK);
-        let mut bytes = vec![0 as c_char; size];
-        assert_eq!(
-            fmi2SerializeFMUstate(c, early, bytes.as_mut_ptr(), size),
-            fmi2OK
-        );
-        let mut back: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(
-            fmi2DeSerializeFMUstate(b, bytes.as_ptr(), size, &mut back),
-            fmi2OK
-        );
-        assert_eq!(fmi2SetFMUstate(b, back), fmi2OK);
+        let (early, back) = move_state(c, b);
         assert_eq!(phase(b), Phase::Instantiated);
         for (inst, mut state) in [(a, st), (b, restored), (b, back), (c, early)] {
             assert_eq!(fmi2FreeFMUstate(inst, &mut state), fmi2OK);
