@@ -46,6 +46,7 @@ pub mod green;
 pub mod hull;
 pub mod hydrostatics;
 pub mod identify;
+pub mod input;
 pub mod model;
 pub mod network;
 pub(crate) mod numerics;

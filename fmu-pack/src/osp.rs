@@ -264,7 +264,10 @@ pub fn write_beside(
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     let path = dir.join(name);
-    if std::fs::read_to_string(&path).is_ok_and(|old| old != text) {
+    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
+    if hydrofmu::input::read_bounded_text(&path, limit, "MAX_INPUT_BYTES")
+        .is_ok_and(|old| old != text)
+    {
         crate::output::stderr_line(&format!(
             "fmu-pack: warning: {} replaced by another hull FMU's groups (one modelName per \
              hull: keep FMUs of a hull with different DOFs in separate folders)",

@@ -223,8 +223,12 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
                         .into(),
                 ));
             }
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?;
+            let text = hydrofmu::input::read_bounded_text(
+                path,
+                hydrofmu::xml::MAX_INPUT_BYTES as u64,
+                "MAX_INPUT_BYTES",
+            )
+            .map_err(|e| format!("cannot read the network {}: {e}", path.display()))?;
             PackedNetwork::from_text(text, &path.display().to_string())?
         }
         None => {
@@ -316,6 +320,8 @@ impl PackedNetwork {
 
 /// The scene report inside the archive (plain text; `fmu-pack inspect` prints it).
 pub const SCENE_FILE: &str = "documentation/scene.txt";
+/// Largest FMU library accepted (256 MiB; the release build is under 1 MB, a debug build 17 MB).
+const MAX_BINARY_BYTES: u64 = 256 << 20;
 
 /// A modelIdentifier from a file name: letters, digits and `_`, starting with a letter.
 pub fn identifier_from_path(path: &Path) -> String {
@@ -423,7 +429,7 @@ pub fn pack_network(
         FmiVersion::V2 => "linux64",
         FmiVersion::V3 => "x86_64-linux",
     };
-    let library = std::fs::read(binary)
+    let library = hydrofmu::input::read_bounded(binary, MAX_BINARY_BYTES, "MAX_BINARY_BYTES")
         .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
     let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
     if let Some(report) = &hull.report {
@@ -838,14 +844,21 @@ fn read_entry<R: Read + std::io::Seek>(
     archive: &mut zip::ZipArchive<R>,
     name: &str,
 ) -> Result<Option<String>, PackError> {
-    let mut file = match archive.by_name(name) {
+    let file = match archive.by_name(name) {
         Ok(f) => f,
         Err(zip::result::ZipError::FileNotFound) => return Ok(None),
         Err(e) => return Err(PackError(format!("{name}: {e}"))),
     };
+    let limit = hydrofmu::xml::MAX_INPUT_BYTES;
     let mut text = String::new();
-    file.read_to_string(&mut text)
+    file.take(limit as u64 + 1)
+        .read_to_string(&mut text)
         .map_err(|e| format!("{name}: {e}"))?;
+    if text.len() > limit {
+        return Err(PackError(format!(
+            "{name}: larger than the limit MAX_INPUT_BYTES = {limit} bytes"
+        )));
+    }
     Ok(Some(text))
 }
 
@@ -855,6 +868,12 @@ pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
 }
 
 fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) && path.exists() {
+        return Err(PackError(
+            "not a regular file (a named pipe, a device or a folder): only regular files are read"
+                .into(),
+        ));
+    }
     let file = std::fs::File::open(path).map_err(|e| format!("cannot open the archive: {e}"))?;
     let mut archive = zip::ZipArchive::new(file).map_err(|e| format!("not a zip archive: {e}"))?;
     let entries: Vec<String> = archive.file_names().map(str::to_string).collect();

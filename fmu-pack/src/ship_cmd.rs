@@ -17,13 +17,11 @@ use std::time::{Duration, Instant};
 /// True when `argument` names a file whose top-level element is `<ship>`.
 pub fn is_ship_file(argument: &str) -> bool {
     let path = Path::new(argument);
-    let small = std::fs::metadata(path)
-        .is_ok_and(|m| m.is_file() && m.len() <= hydrofmu::xml::MAX_INPUT_BYTES as u64);
-    small
-        && std::fs::read_to_string(path)
-            .ok()
-            .and_then(|text| hydrofmu::xml::parse(&text).ok())
-            .is_some_and(|root| root.name == "ship")
+    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
+    hydrofmu::input::read_bounded_text(path, limit, "MAX_INPUT_BYTES")
+        .ok()
+        .and_then(|text| hydrofmu::xml::parse(&text).ok())
+        .is_some_and(|root| root.name == "ship")
 }
 
 /// Comma-separated headings in degrees.

@@ -54,35 +54,17 @@ fn is_netcdf_path(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("nc"))
 }
 
-/// The bytes of a file of at most `limit` bytes, refusing larger ones before reading.
-fn read_bounded_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, DatabaseError> {
-    let name = path.display().to_string();
-    let meta = std::fs::metadata(path).map_err(|e| DatabaseError::file(&name, e.to_string()))?;
-    if !meta.is_file() {
-        return Err(DatabaseError::file(&name, "not a file".to_string()));
-    }
-    if meta.len() > limit {
-        return Err(DatabaseError::file(
-            &name,
-            format!("{} bytes, more than the {limit} accepted", meta.len()),
-        ));
-    }
-    std::fs::read(path).map_err(|e| DatabaseError::file(&name, e.to_string()))
+/// The bytes of a regular file of at most [`wamit::MAX_FILE_BYTES`]
+/// ([`crate::input::read_bounded`]).
+fn read_bounded_bytes(path: &Path) -> Result<Vec<u8>, DatabaseError> {
+    crate::input::read_bounded(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
+        .map_err(|m| DatabaseError::file(&path.display().to_string(), m))
 }
 
-/// Reads a text file of at most `limit` bytes, refusing larger ones before reading.
-fn read_bounded(path: &Path, limit: u64) -> Result<String, DatabaseError> {
-    let name = path.display().to_string();
-    let bytes = read_bounded_bytes(path, limit)?;
-    String::from_utf8(bytes).map_err(|e| {
-        DatabaseError::file(
-            &name,
-            format!(
-                "not text (invalid UTF-8 at byte {})",
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })
+/// As [`read_bounded_bytes`], for text.
+fn read_bounded(path: &Path) -> Result<String, DatabaseError> {
+    crate::input::read_bounded_text(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
+        .map_err(|m| DatabaseError::file(&path.display().to_string(), m))
 }
 
 /// The companion `stem.ext` of `path` when it exists (also in upper case).
@@ -104,16 +86,16 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
     if is_netcdf_path(path) {
         return import_netcdf(path, params);
     }
-    let radiation_text = read_bounded(path, wamit::MAX_FILE_BYTES)?;
+    let radiation_text = read_bounded(path)?;
     let excitation_path = companion(path, "3");
     let hydrostatics_path = companion(path, "hst");
     let excitation_text = excitation_path
         .as_deref()
-        .map(|p| read_bounded(p, wamit::MAX_FILE_BYTES))
+        .map(|p| read_bounded(p))
         .transpose()?;
     let hydrostatics_text = hydrostatics_path
         .as_deref()
-        .map(|p| read_bounded(p, wamit::MAX_FILE_BYTES))
+        .map(|p| read_bounded(p))
         .transpose()?;
     let names = [
         path.display().to_string(),
@@ -147,7 +129,7 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
     if params.read_cfg {
         if let Some(cfg) = companion(path, "cfg") {
             let name = cfg.display().to_string();
-            let text = read_bounded(&cfg, wamit::MAX_FILE_BYTES)?;
+            let text = read_bounded(&cfg)?;
             if let Some(column) = wamit::frequency_column_of_cfg(Source {
                 name: &name,
                 text: &text,
@@ -197,7 +179,7 @@ fn file_name(path: &Path) -> String {
 
 /// Imports a Capytaine NetCDF-3 dataset.
 fn import_netcdf(path: &Path, params: &ImportParams) -> Result<Database, DatabaseError> {
-    let bytes = read_bounded_bytes(path, wamit::MAX_FILE_BYTES)?;
+    let bytes = read_bounded_bytes(path)?;
     let name = path.display().to_string();
     let stem = path
         .file_stem()

@@ -193,24 +193,10 @@ impl Resources {
     }
 }
 
-/// The text of `path` if it holds at most `limit` bytes; the length is checked before
-/// reading, and the read stops past the limit (a file that grows, or a device).
+/// The text of the regular file `path` if it holds at most `limit` bytes
+/// ([`crate::input::read_bounded_text`]).
 fn read_bounded(path: &Path, limit: usize) -> Result<String, String> {
-    use std::io::Read;
-    let too_long = || format!("longer than {limit} bytes (MAX_INPUT_BYTES)");
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let length = file.metadata().map_err(|e| e.to_string())?.len();
-    if length > limit as u64 {
-        return Err(too_long());
-    }
-    let mut bytes = Vec::with_capacity(length as usize);
-    file.take(limit as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    if bytes.len() > limit {
-        return Err(too_long());
-    }
-    String::from_utf8(bytes).map_err(|_| "not UTF-8 text".to_string())
+    crate::input::read_bounded_text(path, limit as u64, "MAX_INPUT_BYTES")
 }
 
 /// `keep_inf_mass` of `options.xml`: the root `<hydrofmu_options format="1" keep_inf_mass="true|false"/>`.

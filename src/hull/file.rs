@@ -18,8 +18,9 @@ impl Hull {
     /// Reads a hull file (format: `docs/HULL_FORMAT.md`).
     pub fn from_file(path: &Path) -> Result<Hull, HullError> {
         let source = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| HullError::new(&source, None, format!("cannot read the file: {e}")))?;
+        let text =
+            crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
+                .map_err(|m| HullError::new(&source, None, m))?;
         Hull::from_xml_str(&text, &source)
     }
 

@@ -122,10 +122,15 @@ impl Network {
     /// Reads a network file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Network, NetworkError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| NetworkError::File {
+        let text = crate::input::read_bounded_text(
+            path,
+            crate::xml::MAX_INPUT_BYTES as u64,
+            "MAX_INPUT_BYTES",
+        )
+        .map_err(|message| NetworkError::File {
             source: path.display().to_string(),
             line: None,
-            message: format!("cannot read: {e}"),
+            message,
         })?;
         Network::from_xml_str(&text, &path.display().to_string())
     }

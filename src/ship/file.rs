@@ -89,17 +89,9 @@ fn distinct(hull: Hull, sections: &mut Vec<Hull>, fingerprints: &mut Vec<String>
     }
 }
 
+/// The text of a ship, section or offset file, within [`xml::MAX_INPUT_BYTES`].
 fn read_bounded(path: &Path) -> Result<String, String> {
-    let length = std::fs::metadata(path)
-        .map_err(|e| format!("cannot read the file: {e}"))?
-        .len();
-    if length > xml::MAX_INPUT_BYTES as u64 {
-        return Err(format!(
-            "the file has {length} bytes; at most {} are read",
-            xml::MAX_INPUT_BYTES
-        ));
-    }
-    std::fs::read_to_string(path).map_err(|e| format!("cannot read the file: {e}"))
+    crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
 }
 
 fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError> {

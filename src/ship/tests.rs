@@ -686,3 +686,67 @@ fn headings_equal_modulo_360_are_refused_before_any_solve() {
     // Close but distinct directions stay.
     assert!(run(&ship, &params(&ship, &[1.0], &[0.0, 359.9]), &|_, _| {}).is_ok());
 }
+
+/// Runs `work` on a thread and returns its answer, failing if none comes within 20 s.
+fn promptly<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> T {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = sender.send(work());
+    });
+    receiver
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("no answer within 20 s")
+}
+
+/// A named pipe at `path`, or `None` (with the reason printed) where `mkfifo` is unavailable.
+fn named_pipe(path: &Path) -> Option<std::path::PathBuf> {
+    match std::process::Command::new("mkfifo").arg(path).status() {
+        Ok(status) if status.success() => Some(path.to_path_buf()),
+        other => {
+            eprintln!("named pipe case skipped: mkfifo is unavailable here ({other:?})");
+            None
+        }
+    }
+}
+
+/// A ship whose section file or offset file is `/dev/zero`, a named pipe or a file one byte
+/// over the limit is refused at once, naming the file and the reason.
+#[test]
+fn section_and_offset_files_that_never_end_are_refused_promptly() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-endless-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let over = dir.join("over.xml");
+    std::fs::File::create(&over)
+        .unwrap()
+        .set_len(crate::xml::MAX_INPUT_BYTES as u64 + 1)
+        .unwrap();
+    let mut cases = vec![
+        (std::path::PathBuf::from("/dev/zero"), "(a device)"),
+        (
+            over,
+            "larger than the limit MAX_INPUT_BYTES = 67108864 bytes",
+        ),
+    ];
+    if let Some(pipe) = named_pipe(&dir.join("pipe")) {
+        cases.push((pipe, "(a named pipe)"));
+    }
+    for (file, reason) in cases {
+        let name = file.display().to_string();
+        let texts = [
+            format!(
+                "<ship name=\"s\"><station x=\"0\"><hull file=\"{name}\"/></station>\
+                 <station x=\"1\"><semicircle radius=\"1\"/></station></ship>"
+            ),
+            format!("<ship name=\"s\"><offsets file=\"{name}\" format=\"pdstrip\"/></ship>"),
+        ];
+        for text in texts {
+            let folder = dir.clone();
+            let e = promptly(move || Ship::from_xml_str(&text, "s.xml", &folder))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&name) && e.contains(reason), "{e}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
