@@ -793,3 +793,25 @@ fn box_barge_matches_the_wamit_export() {
     );
     assert!(transposed < 1e-5);
 }
+
+/// Directions equal modulo 2 pi (0 and 2 pi; -pi/2 and 3 pi/2) would be one column of the
+/// FMU's table twice: the reader refuses them, naming both.
+#[test]
+fn wave_directions_equal_modulo_360_degrees_are_refused() {
+    let mut spec = Spec::new();
+    spec.directions = vec![0.0, PI, 2.0 * PI];
+    let e = refused(&spec);
+    assert!(
+        e.contains("wave_direction[0] and wave_direction[2]")
+            && e.contains("headings 0 and 360 are the same direction (equal modulo 360 degrees)"),
+        "{e}"
+    );
+    spec.directions = vec![-PI / 2.0, 0.0, 1.5 * PI];
+    let e = refused(&spec);
+    assert!(
+        e.contains("headings -90 and 270 are the same direction"),
+        "{e}"
+    );
+    spec.directions = vec![0.0, PI, 1.5 * PI];
+    assert!(read(&spec, 1025.0).is_ok());
+}

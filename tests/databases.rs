@@ -729,3 +729,46 @@ fn a_database_written_as_a_capytaine_dataset_reads_back() {
     assert_eq!(back.stiffness_hydrostatic, db.stiffness_hydrostatic);
     let _ = std::fs::remove_file(&path);
 }
+
+/// A `.3` whose rows repeat at BETA = 360 (or -360) beside BETA = 0: one direction twice, which
+/// would give the FMU's table a duplicated column; the reader refuses it at the first such row.
+#[test]
+fn headings_equal_modulo_360_are_refused_by_the_reader() {
+    for (beta, field) in [(360.0, " 3.600000E+02 "), (-360.0, "-3.600000E+02 ")] {
+        let path = files("headings-360", |ext, text| {
+            if ext != "3" {
+                return Some(text);
+            }
+            let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+            let repeated: Vec<String> = lines[1..]
+                .iter()
+                .map(|row| row.replacen(" 0.000000E+00 ", field, 1))
+                .collect();
+            lines.extend(repeated);
+            Some(lines.join("\n") + "\n")
+        });
+        let e = import::import(&path, &params()).unwrap_err().to_string();
+        assert!(
+            e.contains("sphere.3:44:")
+                && e.contains(&format!(
+                    "headings 0 and {beta} are the same direction (equal modulo 360 degrees)"
+                )),
+            "{e}"
+        );
+    }
+    // 0 and 180 are two directions: read.
+    let path = files("headings-180", |ext, text| {
+        if ext != "3" {
+            return Some(text);
+        }
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let repeated: Vec<String> = lines[1..]
+            .iter()
+            .map(|row| row.replacen(" 0.000000E+00 ", " 1.800000E+02 ", 1))
+            .collect();
+        lines.extend(repeated);
+        Some(lines.join("\n") + "\n")
+    });
+    let db = import::import(&path, &params()).unwrap();
+    assert_eq!(db.headings, vec![0.0, 180.0]);
+}

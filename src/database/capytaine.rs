@@ -936,6 +936,16 @@ fn convert(
                 pair[0].1, pair[1].1, pair[0].0
             )));
         }
+        // Directions: two equal modulo 360 degrees would be one table column twice.
+        for (k, &(a, first)) in order.iter().enumerate() {
+            let same = |(b, _): &&(f64, usize)| crate::waves::same_direction(a, *b);
+            if let Some(&(b, second)) = order[k + 1..].iter().find(same) {
+                return Err(error(format!(
+                    "wave_direction[{first}] and wave_direction[{second}]: headings {a} and {b} \
+                     are the same direction (equal modulo 360 degrees)"
+                )));
+            }
+        }
         let (re, im) = complex_parts(nc, &mut notes)?;
         let has_froude_krylov = nc.has("Froude_Krylov_force");
         let mut forces = |var: &str| -> Result<Vec<DMatrix<Complex64>>, DatabaseError> {

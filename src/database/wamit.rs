@@ -913,6 +913,17 @@ fn read_excitation(
             ));
         }
         if !headings.contains(&beta) {
+            // Directions: two equal modulo 360 degrees would be one table column twice.
+            let same = |b: &&f64| crate::waves::same_direction(beta, **b);
+            if let Some(b) = headings.iter().find(same) {
+                return Err(rows.error(
+                    line,
+                    format!(
+                        "field BETA: headings {b} and {beta} are the same direction (equal \
+                         modulo 360 degrees)"
+                    ),
+                ));
+            }
             if headings.len() == super::MAX_HEADINGS {
                 return Err(rows.error(
                     line,
