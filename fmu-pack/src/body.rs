@@ -13,56 +13,68 @@ use hydrofmu::scene::Band;
 use hydrofmu::xml::{format_number, Notation};
 use std::time::{Duration, Instant};
 
-/// Writes the database's tables as `fmu-pack sweep` does, and its warnings, notes and
-/// left-out frequencies to standard error.
+/// Writes the database's tables as `fmu-pack sweep` does (all together, or none:
+/// [`output::Outputs`]), and its warnings, notes and left-out frequencies to standard error.
 pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String> {
+    if args.excitation.is_some() && database.excitation.is_empty() {
+        return Err(format!(
+            "--excitation: {} has no exciting force",
+            database.name
+        ));
+    }
+    let mut outputs = output::Outputs::new();
     let mut text = Vec::new();
     database
         .write_csv(&mut text)
         .map_err(|e| format!("cannot format the table: {e}"))?;
-    output::file(&args.output, &text)?;
+    outputs.bytes(&args.output, &text)?;
     if let Some(path) = &args.excitation {
-        if database.excitation.is_empty() {
-            return Err(format!(
-                "--excitation: {} has no exciting force",
-                database.name
-            ));
-        }
         let mut text = Vec::new();
         database
             .write_excitation_csv(&mut text)
             .map_err(|e| format!("cannot format the excitation table: {e}"))?;
-        output::file(path, &text)?;
+        outputs.bytes(path, &text)?;
     }
     if let Some(path) = &args.hydrostatics {
         let mut text = Vec::new();
         database
             .write_hydrostatics_csv(&mut text)
             .map_err(|e| format!("cannot format the restoring table: {e}"))?;
-        output::file(path, &text)?;
+        outputs.bytes(path, &text)?;
     }
     if let Some(prefix) = &args.wamit {
-        write_wamit(prefix, &hydrofmu::database::wamit::write(database))?;
+        stage_wamit(
+            &mut outputs,
+            prefix,
+            &hydrofmu::database::wamit::write(database),
+        )?;
     }
     if let Some(path) = &args.netcdf {
-        hydrofmu::database::capytaine::write(database, path)?;
+        outputs.with_path(path, |temporary| {
+            hydrofmu::database::capytaine::write(database, temporary)
+        })?;
     }
+    outputs.commit()?;
     print_findings(database);
     Ok(())
 }
 
-/// Writes `PREFIX.1`, `PREFIX.3` (when there is an exciting force) and `PREFIX.hst`.
-pub fn write_wamit(prefix: &std::path::Path, files: &WamitFiles) -> Result<(), String> {
+/// Stages `PREFIX.1`, `PREFIX.3` (when there is an exciting force) and `PREFIX.hst`.
+pub fn stage_wamit(
+    outputs: &mut output::Outputs,
+    prefix: &std::path::Path,
+    files: &WamitFiles,
+) -> Result<(), String> {
     let path = |ext: &str| {
         let mut name = prefix.as_os_str().to_owned();
         name.push(format!(".{ext}"));
         std::path::PathBuf::from(name)
     };
-    output::file(&path("1"), files.radiation.as_bytes())?;
+    outputs.bytes(&path("1"), files.radiation.as_bytes())?;
     if let Some(text) = &files.excitation {
-        output::file(&path("3"), text.as_bytes())?;
+        outputs.bytes(&path("3"), text.as_bytes())?;
     }
-    output::file(&path("hst"), files.hydrostatics.as_bytes())
+    outputs.bytes(&path("hst"), files.hydrostatics.as_bytes())
 }
 
 /// Warnings, notes and left-out frequencies, one line each on standard error.

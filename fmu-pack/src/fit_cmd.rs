@@ -106,8 +106,10 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
             args.order,
             args.max_step,
         )?;
+        // The network and the figures together, or none (output::Outputs).
+        let mut outputs = crate::output::Outputs::new();
         if let Some(path) = &args.network_out {
-            crate::output::file(path, fitted.fit.network.to_xml_string().as_bytes())?;
+            outputs.bytes(path, fitted.fit.network.to_xml_string().as_bytes())?;
         }
         if let Some(dir) = &args.plots {
             let source = if imported { "database" } else { "strip theory" };
@@ -117,8 +119,9 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
                 source,
                 ("omega (rad/s)", &|omega| omega),
             );
-            write_figures(figures, dir)?;
+            stage_figures(&mut outputs, figures, dir)?;
         }
+        outputs.commit()?;
         if args.json {
             let text = json_report(
                 &fitted.fit,
@@ -142,12 +145,14 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         args.max_step,
     )?;
     let built = pipeline::build_network(scene)?;
+    let mut outputs = crate::output::Outputs::new();
     if let Some(path) = &args.network_out {
-        crate::output::file(path, built.fit.network.to_xml_string().as_bytes())?;
+        outputs.bytes(path, built.fit.network.to_xml_string().as_bytes())?;
     }
     if let Some(dir) = &args.plots {
-        write_plots(&built, dir)?;
+        stage_figures(&mut outputs, plots(&built), dir)?;
     }
+    outputs.commit()?;
     let report = if args.json {
         format!("{}\n", json(&built))
     } else {
@@ -381,25 +386,16 @@ fn number(x: f64) -> String {
     }
 }
 
-/// One SVG per matrix entry i <= j whose scale is nonzero, written into `dir`. Returns the
-/// file names written.
-pub fn write_plots(built: &Built, dir: &std::path::Path) -> Result<Vec<String>, String> {
-    write_figures(plots(built), dir)
-}
-
-/// Writes `(file name, SVG)` pairs into `dir` (created); the names written.
-pub fn write_figures(
+/// Stages `(file name, SVG)` pairs in `dir` (created).
+fn stage_figures(
+    outputs: &mut crate::output::Outputs,
     figures: Vec<(String, String)>,
     dir: &std::path::Path,
-) -> Result<Vec<String>, String> {
+) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let mut written = Vec::new();
-    for (name, svg) in figures {
-        std::fs::write(dir.join(&name), svg)
-            .map_err(|e| format!("cannot write {}: {e}", dir.join(&name).display()))?;
-        written.push(name);
-    }
-    Ok(written)
+    figures
+        .iter()
+        .try_for_each(|(name, svg)| outputs.bytes(&dir.join(name), svg.as_bytes()))
 }
 
 /// Plots of fit against data (as the seed's Figure 6), one per matrix entry i <= j whose

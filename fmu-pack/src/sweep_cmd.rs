@@ -265,9 +265,11 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     result
         .write_csv(&mut text)
         .map_err(|e| format!("cannot format the table: {e}"))?;
-    output::file(&args.output, &text)?;
+    // Every output together at the end, or none (output::Outputs).
+    let mut outputs = output::Outputs::new();
+    outputs.bytes(&args.output, &text)?;
     if let Some(path) = &args.hydrostatics {
-        output::file(path, hydrostatics_csv(&hull)?.as_bytes())?;
+        outputs.bytes(path, hydrostatics_csv(&hull)?.as_bytes())?;
     }
     for (path, part) in [
         (&args.excitation, ExcitationPart::Total),
@@ -278,11 +280,17 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
             result
                 .write_excitation_csv(&mut text, part)
                 .map_err(|e| format!("cannot format the excitation table: {e}"))?;
-            output::file(path, &text)?;
+            outputs.bytes(path, &text)?;
         }
     }
-    if exports {
-        write_section_exports(&hull, &result, args)?;
+    let section_notes = if exports {
+        stage_section_exports(&mut outputs, &hull, &result, args)?
+    } else {
+        Vec::new()
+    };
+    outputs.commit()?;
+    for note in &section_notes {
+        output::stderr_line(&format!("note: {note}"));
     }
     for note in &result.notes {
         output::stderr_line(&format!("note: {note}"));
@@ -334,26 +342,24 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// `--wamit` and `--netcdf` of a section: its 1 m slice per unit length at the reference
-/// rho and g (docs/DATABASES.md, "Export").
-fn write_section_exports(
+/// Stages `--wamit` and `--netcdf` of a section: its 1 m slice per unit length at the
+/// reference rho and g (docs/DATABASES.md, "Export"). Returns the export's notes.
+fn stage_section_exports(
+    outputs: &mut output::Outputs,
     hull: &Hull,
     result: &sweep::SweepResult,
     args: &SweepArgs,
-) -> Result<(), String> {
+) -> Result<Vec<String>, String> {
     use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
     let section = SectionDatabase::from_sweep(hull, result, DEFAULT_RHO, DEFAULT_G)
         .map_err(|e| format!("{}: cannot export the section: {e}", hull.name()))?;
     if let Some(prefix) = &args.wamit {
-        crate::body::write_wamit(prefix, &section.wamit())?;
+        crate::body::stage_wamit(outputs, prefix, &section.wamit())?;
     }
     if let Some(path) = &args.netcdf {
-        section.write_netcdf(path)?;
+        outputs.with_path(path, |temporary| section.write_netcdf(temporary))?;
     }
-    for note in &section.database.notes {
-        output::stderr_line(&format!("note: {note}"));
-    }
-    Ok(())
+    Ok(section.database.notes.clone())
 }
 
 #[cfg(test)]

@@ -125,3 +125,94 @@ fn sweep_writes_the_excitation_froude_krylov_and_hydrostatics_tables() {
     assert_eq!(c[0][2], "0e0");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The files of a folder with their bytes, sorted by name.
+fn folder_contents(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|entry| {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            let bytes = if path.is_file() {
+                std::fs::read(&path).unwrap()
+            } else {
+                b"(folder)".to_vec()
+            };
+            (name, bytes)
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// A sweep whose later output cannot be written (the WAMIT prefix's `.3` is a folder; the
+/// NetCDF file in `/proc`, where nothing can be created) leaves every earlier output as it was,
+/// byte for byte, and no temporary file behind.
+#[test]
+fn a_failing_output_leaves_the_earlier_outputs_as_they_were() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-sweep-commit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    for name in ["added_mass.csv", "hydrostatics.csv", "slice.1", "slice.hst"] {
+        std::fs::write(dir.join(name), format!("earlier {name}\n")).unwrap();
+    }
+    std::fs::create_dir(dir.join("slice.3")).unwrap();
+    let before = folder_contents(&dir);
+    let sweep = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "semicircle",
+            "--panels",
+            "16",
+            "--levels",
+            "1",
+            "--kr",
+            "0.5:1:2",
+            "--dofs",
+            "sway,heave",
+        ];
+        args.extend_from_slice(extra);
+        fmu_pack(&args)
+    };
+    let outputs = [
+        "-o",
+        &path("added_mass.csv"),
+        "--hydrostatics",
+        &path("hydrostatics.csv"),
+    ];
+    let prefix = path("slice");
+    let (ok, _, err) = sweep(&[&outputs[..], &["--wamit", &prefix]].concat());
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("cannot write {prefix}.3: it is a folder")),
+        "{err}"
+    );
+    assert_eq!(folder_contents(&dir), before);
+    if cfg!(target_os = "linux") {
+        let (ok, _, err) = sweep(&[&outputs[..], &["--netcdf", "/proc/slice.nc"]].concat());
+        assert!(!ok);
+        assert!(err.contains("cannot write /proc/slice.nc"), "{err}");
+        assert_eq!(folder_contents(&dir), before);
+    }
+    // Every output written: all replaced together, no temporary file left.
+    std::fs::remove_dir(dir.join("slice.3")).unwrap();
+    let (ok, _, err) = sweep(&[&outputs[..], &["--wamit", &prefix]].concat());
+    assert!(ok, "{err}");
+    let after = folder_contents(&dir);
+    let names: Vec<&str> = after.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "added_mass.csv",
+            "hydrostatics.csv",
+            "slice.1",
+            "slice.3",
+            "slice.hst"
+        ]
+    );
+    assert!(after
+        .iter()
+        .all(|(_, bytes)| !bytes.starts_with(b"earlier")));
+    std::fs::remove_dir_all(&dir).ok();
+}
