@@ -89,14 +89,8 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
     let radiation_text = read_bounded(path)?;
     let excitation_path = companion(path, "3");
     let hydrostatics_path = companion(path, "hst");
-    let excitation_text = excitation_path
-        .as_deref()
-        .map(|p| read_bounded(p))
-        .transpose()?;
-    let hydrostatics_text = hydrostatics_path
-        .as_deref()
-        .map(|p| read_bounded(p))
-        .transpose()?;
+    let excitation_text = excitation_path.as_deref().map(read_bounded).transpose()?;
+    let hydrostatics_text = hydrostatics_path.as_deref().map(read_bounded).transpose()?;
     let names = [
         path.display().to_string(),
         excitation_path
