@@ -71,7 +71,7 @@ fn mistakes_are_named() {
     let cases: [(&[&str], &str); 6] = [
         (
             &["sweep", "nowhere/box.1", "-o", "-"],
-            "nowhere/box.1: No such file",
+            "nowhere/box.1: cannot read the file: No such file",
         ),
         (
             &["sweep", &sphere(), "--panels", "64", "-o", "-"],
