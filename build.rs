@@ -38,7 +38,7 @@ struct Variable {
     integer: bool,
     start: f64,
     min: f64,
-    /// Largest accepted value (`<Integer max>`; unbounded for Reals).
+    /// Largest accepted value (`max`; unbounded for a Real without one).
     max: f64,
     /// Unit name (empty for Integers, which have none in FMI 2.0).
     unit: String,
@@ -141,12 +141,13 @@ fn generate(text: &str) -> String {
                     fail(variable.line, "valueReference is not an unsigned integer")
                 });
                 let start = number("start");
-                let min = number("min");
-                let max = if integer {
-                    number("max")
-                } else {
-                    f64::INFINITY
+                // An <Integer> declares both bounds; a <Real> either or none (unbounded).
+                let bound = |key: &str, unbounded: f64| match element.attribute(key) {
+                    None if !integer => unbounded,
+                    _ => number(key),
                 };
+                let min = bound("min", f64::NEG_INFINITY);
+                let max = bound("max", f64::INFINITY);
                 if start < min || start > max {
                     fail(line, &format!("start {start} is outside [{min}, {max}]"));
                 }
@@ -288,8 +289,9 @@ fn generate(text: &str) -> String {
     for v in &variables {
         let _ = writeln!(
             out,
-            "    FixedParameter {{ name: {:?}, value_reference: {}, integer: {}, start: {:?}, min: {:?}, max: {}, unit: {:?}, description: {:?} }},",
-            v.name, v.value_reference, v.integer, v.start, v.min,
+            "    FixedParameter {{ name: {:?}, value_reference: {}, integer: {}, start: {:?}, min: {}, max: {}, unit: {:?}, description: {:?} }},",
+            v.name, v.value_reference, v.integer, v.start,
+            if v.min.is_finite() { format!("{:?}", v.min) } else { "f64::NEG_INFINITY".into() },
             if v.max.is_finite() { format!("{:?}", v.max) } else { "f64::INFINITY".into() },
             v.unit, v.description
         );

@@ -20,6 +20,8 @@
 //!
 //! libcosim connects two groups member by member in order, each pair from its output to its
 //! input, so a partner's port lists its force inputs and velocity outputs in the same DOF order.
+//! In the file the groups stand in the order the OSP-IS 1.0 schema requires: the `Generic`
+//! groups first, then the linear ports, then the angular ones.
 
 use hydrofmu::fmu::{Layout, Quantity};
 use hydrofmu::xml::escape;
@@ -167,7 +169,29 @@ pub fn groups(layout: &Layout) -> Vec<Group> {
             out.push(Group::leaf("Generic", name.into(), variables));
         }
     }
+    // The schema's sequence fixes the order of the kinds; the order within a kind stays.
+    out.sort_by_key(|g| schema_rank(g.kind));
     out
+}
+
+/// The group kinds used here, in the order of the OSP-IS 1.0 schema's `VariableGroupsType`
+/// sequence (`OspModelDescription-1.0.0.xsd`): all `Generic` groups first, ports last.
+const SCHEMA_ORDER: [&str; 7] = [
+    "Generic",
+    "Force",
+    "Torque",
+    "LinearVelocity",
+    "AngularVelocity",
+    "LinearMechanicalPort",
+    "AngularMechanicalPort",
+];
+
+/// Position of a group kind in [`SCHEMA_ORDER`] (an unknown kind last).
+fn schema_rank(kind: &str) -> usize {
+    SCHEMA_ORDER
+        .iter()
+        .position(|k| *k == kind)
+        .unwrap_or(SCHEMA_ORDER.len())
 }
 
 fn write_group(out: &mut String, group: &Group, depth: usize) {
@@ -421,6 +445,99 @@ mod tests {
             refs(find(&root, "Generic", "mode_m1")),
             ["force.m1", "velocity.m1"]
         );
+    }
+
+    /// The OSP-IS 1.0 schema (tests/data/osp/README.md names its source).
+    const SCHEMA: &str = include_str!("../../tests/data/osp/OspModelDescription-1.0.0.xsd");
+
+    /// The `xs:sequence` of the schema's complex type `name`: (element, type without prefix,
+    /// minOccurs, maxOccurs) in order; `None` for a type the schema does not define.
+    fn sequence(schema: &Element, name: &str) -> Option<Vec<(String, String, usize, usize)>> {
+        let complex = schema
+            .children
+            .iter()
+            .find(|e| e.name == "xs:complexType" && e.attribute("name") == Some(name))?;
+        let Some(sequence) = complex.descendants().find(|e| e.name == "xs:sequence") else {
+            return Some(Vec::new());
+        };
+        let occurs = |e: &Element, key: &str| match e.attribute(key) {
+            Some("unbounded") => usize::MAX,
+            Some(n) => n.parse().unwrap(),
+            None => 1,
+        };
+        // A repeated sequence (UnitDefinitions) repeats its elements.
+        let repeated = occurs(sequence, "maxOccurs") > 1;
+        Some(
+            sequence
+                .children
+                .iter()
+                .filter(|e| e.name == "xs:element")
+                .map(|e| {
+                    let kind = e.attribute("type").unwrap_or("");
+                    let kind = kind.strip_prefix("osp:").unwrap_or(kind).to_string();
+                    let max = if repeated {
+                        usize::MAX
+                    } else {
+                        occurs(e, "maxOccurs")
+                    };
+                    let min = if repeated { 0 } else { occurs(e, "minOccurs") };
+                    (e.attribute("name").unwrap().to_string(), kind, min, max)
+                })
+                .collect(),
+        )
+    }
+
+    /// The schema's rules of content that an element of type `kind` breaks: children not
+    /// in its sequence, out of its order, or more or fewer than it allows; recursively.
+    fn violations(schema: &Element, element: &Element, kind: &str, into: &mut Vec<String>) {
+        let Some(sequence) = sequence(schema, kind) else {
+            return;
+        };
+        let mut last = 0;
+        for child in &element.children {
+            let Some(at) = sequence.iter().position(|(n, ..)| *n == child.name) else {
+                into.push(format!("{} in {} ({kind})", child.name, element.name));
+                continue;
+            };
+            if at < last {
+                into.push(format!(
+                    "{} after {} in {} ({kind}): out of the schema's order",
+                    child.name, sequence[last].0, element.name
+                ));
+            }
+            last = last.max(at);
+            violations(schema, child, &sequence[at].1, into);
+        }
+        for (name, _, min, max) in &sequence {
+            let count = element.children.iter().filter(|c| c.name == *name).count();
+            if count < *min || count > *max {
+                into.push(format!(
+                    "{count} {name} in {} ({kind}): {min}..={max} allowed",
+                    element.name
+                ));
+            }
+        }
+    }
+
+    #[test]
+    fn descriptions_follow_the_osp_schema_order() {
+        let schema = parse(SCHEMA).unwrap();
+        assert_eq!(
+            schema.attribute("targetNamespace"),
+            Some(NAMESPACE),
+            "the schema of the namespace written"
+        );
+        let groups = sequence(&schema, "VariableGroupsType").unwrap();
+        assert!(groups.len() > 40, "{}", groups.len());
+        for kind in SCHEMA_ORDER {
+            assert!(groups.iter().any(|g| g.0 == kind), "{kind}");
+        }
+        for layout in [ship(false), ship(true), section(), odd()] {
+            let root = parse(&model_description(&layout)).unwrap();
+            let mut found = Vec::new();
+            violations(&schema, &root, "OspModelDescriptionType", &mut found);
+            assert!(found.is_empty(), "{found:#?}");
+        }
     }
 
     #[test]

@@ -144,7 +144,8 @@ pub struct PackSummary {
     pub guid: String,
     /// DOF names.
     pub dofs: Vec<String>,
-    /// Network states.
+    /// Network states: the length of the network's state vector (see
+    /// [`Model::network_states`]).
     pub states: usize,
     /// Whether A_inf is kept inside.
     pub keep_inf_mass: bool,
@@ -415,7 +416,7 @@ pub fn pack_network(
             "Hydrodynamic radiation forces on hull '{}' (DOFs {}), equivalent mass-spring-damper network with {} states",
             hull.name,
             model.dof_names().join(", "),
-            system.state_size()
+            model.network_states()
         )),
         damping_direct: Some(system.damping_direct().clone()),
         added_mass_inf: Some(system.added_mass_inf().clone()),
@@ -519,7 +520,7 @@ pub fn pack_network(
         model_identifier: model_identifier.to_string(),
         guid,
         dofs: model.dof_names().to_vec(),
-        states: system.state_size(),
+        states: model.network_states(),
         keep_inf_mass,
         osp,
         scene: scene_entry,
@@ -680,7 +681,7 @@ Conventions: {axes}; force = force on the hull by the water.</p>
         },
         guid = escape(guid),
         dofs = escape(&model.dof_names().join(", ")),
-        states = system.state_size(),
+        states = model.network_states(),
         usage = usage,
         rho = system.rho(),
         g = system.g(),
@@ -780,7 +781,8 @@ pub struct Inspection {
     pub dofs: Vec<(String, String)>,
     /// Number of scalar variables.
     pub variables: usize,
-    /// Network states.
+    /// Network states: the length of the network's state vector (see
+    /// [`Model::network_states`]).
     pub states: usize,
     /// A_inf kept inside.
     pub keep_inf_mass: bool,
@@ -810,10 +812,10 @@ impl fmt::Display for Inspection {
             writeln!(f, "  {name:<10} velocity in {unit}")?;
         }
         writeln!(f, "variables         {}", self.variables)?;
+        writeln!(f, "network states    {}", self.states)?;
         writeln!(
             f,
-            "network           {} states (state size), A_inf {}",
-            self.states,
+            "A_inf             {}",
             if self.keep_inf_mass {
                 "inside"
             } else {
@@ -914,7 +916,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
         resources_guid: resources.guid(),
         dofs: Vec::new(),
         variables: 0,
-        states: model.system().state_size(),
+        states: model.network_states(),
         keep_inf_mass: resources.keep_inf_mass,
         entries,
         scene,

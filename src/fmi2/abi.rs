@@ -15,7 +15,7 @@
 
 use super::instance::{Instance, Snapshot};
 use super::logging::{Category, Message};
-use super::phase::Function;
+use super::phase::{Function, Standard};
 use super::types::*;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -147,8 +147,52 @@ unsafe fn with_instance_of(
     function: Function,
     body: impl FnOnce(&mut Instance) -> Status,
 ) -> fmi2Status {
+    let called = function.name_in(standard_of(magic));
+    // SAFETY: the caller's contract.
+    unsafe { with_instance_named(magic, c, function, called, body) }
+}
+
+/// The standard whose functions make and take components with `magic`.
+fn standard_of(magic: u64) -> Standard {
+    if magic == INSTANCE_MAGIC_FMI3 {
+        Standard::Fmi3
+    } else {
+        Standard::Fmi2
+    }
+}
+
+/// [`with_instance_of`] for the function `called` (its C name): a component of the other
+/// standard is refused with a log line naming both standards' functions.
+///
+/// # Safety
+/// As [`with_instance`].
+unsafe fn with_instance_named(
+    magic: u64,
+    c: fmi2Component,
+    function: Function,
+    called: &'static str,
+    body: impl FnOnce(&mut Instance) -> Status,
+) -> fmi2Status {
     // SAFETY: the caller's contract.
     let Some(component) = (unsafe { component_with_magic(c, magic) }) else {
+        let other = match standard_of(magic) {
+            Standard::Fmi2 => INSTANCE_MAGIC_FMI3,
+            Standard::Fmi3 => INSTANCE_MAGIC,
+        };
+        // SAFETY: the caller's contract.
+        if let Some(component) = unsafe { component_with_magic(c, other) } {
+            // The counterpart only where `called` is the function's own name.
+            let own = called == function.name_in(standard_of(magic));
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                // SAFETY: a live Component of the other standard; the only reference into
+                // it, dropped when the closure returns.
+                let instance = unsafe { &mut (*component).instance };
+                let counterpart = own.then(|| function.name_in(instance.standard()));
+                instance.refuse_other_standard(called, counterpart);
+            }));
+            // SAFETY: a live Component and no reference into it.
+            unsafe { flush(component) };
+        }
         return fmi2Error;
     };
     let status = catch_unwind(AssertUnwindSafe(|| {
@@ -298,8 +342,13 @@ unsafe fn stored_state(inst: &Instance, state: fmi2FMUstate) -> Result<*mut Stor
     if state.is_null() {
         return Err("FMUstate is NULL".to_string());
     }
+    let standard = inst.standard();
     let not_ours = || {
-        "FMUstate is not a state of this instance (fmi2GetFMUstate or fmi2DeSerializeFMUstate of this instance issues them; freed ones are gone)".to_string()
+        format!(
+            "FMUstate is not a state of this instance ({} or {} of this instance issues them; freed ones are gone)",
+            Function::GetFmuState.name_in(standard),
+            Function::DeSerializeFmuState.name_in(standard)
+        )
     };
     if !inst.issued_state(state as usize) {
         return Err(not_ours());
@@ -482,8 +531,31 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
                 (*component).magic = 0;
                 drop(Box::from_raw(component));
             }
+        } else {
+            // SAFETY: as above.
+            unsafe { refuse_free_of_other_standard(INSTANCE_MAGIC_FMI3, c, "fmi2FreeInstance") };
         }
     }));
+}
+
+/// A free of a component of the other standard (`other`, its magic): not freed, logged to
+/// its logger naming both free functions.
+///
+/// # Safety
+/// As [`component_from`]; a component of ours is not used by another thread meanwhile.
+unsafe fn refuse_free_of_other_standard(other: u64, c: fmi2Component, called: &str) {
+    // SAFETY: the caller's contract.
+    let Some(component) = (unsafe { component_with_magic(c, other) }) else {
+        return;
+    };
+    let own = match standard_of(other) {
+        Standard::Fmi2 => "fmi2FreeInstance",
+        Standard::Fmi3 => "fmi3FreeInstance",
+    };
+    // SAFETY: a live Component; the only reference into it, dropped with the statement.
+    unsafe { &mut (*component).instance }.refuse_other_standard(called, Some(own));
+    // SAFETY: a live Component and no reference into it.
+    unsafe { flush(component) };
 }
 
 /// Sets debug logging for all categories (n = 0) or the listed ones.

@@ -19,7 +19,7 @@ use super::types::{
     fmi2Terminated, fmi2Type, fmi2ValueReference, Status,
 };
 use super::uri::resource_path;
-use crate::fmu::description::MAX_OUTPUT_DERIVATIVE_ORDER;
+use crate::fmu::description::{MAX_OUTPUT_DERIVATIVE_ORDER, PARAMETERS};
 use crate::fmu::{DofUnit, Layout, Quantity};
 use crate::model::{Model, ModelState, Resources};
 use std::collections::HashSet;
@@ -56,6 +56,21 @@ fn same_length(a: (&str, usize), b: (&str, usize)) -> Result<(), String> {
     } else {
         Err(format!("{} has {} entries, {} has {}", a.0, a.1, b.0, b.1))
     }
+}
+
+/// Refuses a value of a fixed parameter outside the min and max its model description
+/// declares ([`PARAMETERS`]); other variables pass.
+fn within_declared_limits(vr: fmi2ValueReference, value: f64) -> Result<(), String> {
+    let Some(p) = PARAMETERS.iter().find(|p| p.value_reference == vr) else {
+        return Ok(());
+    };
+    if value < p.min || value > p.max {
+        return Err(format!(
+            "{} = {value} is outside its declared range {}..={} (min and max in the model description)",
+            p.name, p.min, p.max
+        ));
+    }
+    Ok(())
 }
 
 fn no_variables(kind: &str, vr: &[fmi2ValueReference]) -> Outcome {
@@ -126,7 +141,7 @@ impl Instance {
             "instantiated: {} DOFs ({}), {} network states",
             instance.model.dof_count(),
             instance.model.dof_names().join(", "),
-            instance.model.system().state_size()
+            instance.model.network_states()
         );
         instance.log(Status::Ok, Category::Events, text);
         Ok(instance)
@@ -225,23 +240,62 @@ impl Instance {
     /// For the C layer, before it reads a call's pointer arguments: refuses the call if its
     /// phase does not allow it (as the method would).
     pub(crate) fn refuse_outside_phase(&mut self, function: Function) -> Option<Status> {
+        let name = function.name_in(self.standard);
+        self.refuse_outside_phase_as(function, name)
+    }
+
+    /// [`Instance::refuse_outside_phase`] for the C function `name` (one of the functions
+    /// that share `function`'s phases).
+    pub(crate) fn refuse_outside_phase_as(
+        &mut self,
+        function: Function,
+        name: &str,
+    ) -> Option<Status> {
         if allowed(function).contains(self.phase) {
             return None;
         }
         let first = self.messages.len();
-        let status = self.refuse(function);
-        let name = function.name_in(self.standard);
-        self.log_call(first, status, || name.to_string());
-        Some(status)
+        let text = format!(
+            "{name}: not allowed in phase {:?} (call refused)",
+            self.phase
+        );
+        self.log(Status::Error, Category::Error, text);
+        self.log_call(first, Status::Error, || name.to_string());
+        Some(Status::Error)
     }
 
     /// For the C layer: a call whose pointer arguments are unusable fails like any call.
     pub(crate) fn reject_arguments(&mut self, function: Function, message: &str) -> Status {
-        let first = self.messages.len();
-        let status = self.fail(function, message);
         let name = function.name_in(self.standard);
-        self.log_call(first, status, || name.to_string());
-        status
+        self.reject_arguments_as(name, message)
+    }
+
+    /// [`Instance::reject_arguments`] for the C function `name`.
+    pub(crate) fn reject_arguments_as(&mut self, name: &str, message: &str) -> Status {
+        let first = self.messages.len();
+        self.log(Status::Error, Category::Error, format!("{name}: {message}"));
+        self.phase = Phase::Error;
+        self.log_call(first, Status::Error, || name.to_string());
+        Status::Error
+    }
+
+    /// For the C layer: a call of the other standard's function `called` (an fmi2 function
+    /// on an instance made by fmi3InstantiateCoSimulation, or back) is refused and logged,
+    /// naming `counterpart`, this standard's function, when there is one; the phase stays.
+    pub(crate) fn refuse_other_standard(&mut self, called: &str, counterpart: Option<&str>) {
+        let made_by = match self.standard {
+            Standard::Fmi2 => "fmi2Instantiate (FMI 2.0)",
+            Standard::Fmi3 => "fmi3InstantiateCoSimulation (FMI 3.0)",
+        };
+        let instead = match counterpart {
+            Some(own) => format!("call {own} instead"),
+            None => "its standard has no such function".to_string(),
+        };
+        let text =
+            format!("{called}: this instance was made by {made_by}: {instead} (call refused)");
+        let first = self.messages.len();
+        self.log(Status::Error, Category::Error, text);
+        self.log_call(first, Status::Error, || called.to_string());
     }
 
     /// For the C layer, after a caught panic (a bug): the instance can only be freed.
@@ -366,11 +420,22 @@ impl Instance {
         self.run(Function::GetReal, |inst| {
             same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
             for (r, out) in vr.iter().zip(values.iter_mut()) {
-                let q = inst.quantity(*r)?;
-                *out = inst.model.value(q).map_err(|e| e.to_string())?;
+                *out = inst.real_value(*r)?;
             }
             Ok(Status::Ok)
         })
+    }
+
+    /// The value of the Real variable `vr` (an Integer one is refused: it has its own getter).
+    fn real_value(&mut self, vr: fmi2ValueReference) -> Result<f64, String> {
+        match self.quantity(vr)? {
+            Quantity::Wave(p) if p.is_integer() => Err(format!(
+                "{} is an Integer variable: read it with {}",
+                self.variable_name(vr),
+                Function::GetInteger.name_in(self.standard)
+            )),
+            q => self.model.value(q).map_err(|e| e.to_string()),
+        }
     }
 
     /// fmi2SetReal: rho and g before initialization ends, the inputs any time before
@@ -383,6 +448,7 @@ impl Instance {
             let (mut parameters, mut waves) = (false, false);
             for (r, x) in vr.iter().zip(values) {
                 let q = inst.quantity(*r)?;
+                within_declared_limits(*r, *x)?;
                 match q {
                     Quantity::Rho | Quantity::G | Quantity::Wave(_) if !before_init => {
                         return Err(format!(
@@ -392,8 +458,9 @@ impl Instance {
                     }
                     Quantity::Wave(p) if p.is_integer() => {
                         return Err(format!(
-                            "{} is an Integer parameter: set it with fmi2SetInteger (fmi3SetInt32)",
-                            inst.variable_name(*r)
+                            "{} is an Integer parameter: set it with {}",
+                            inst.variable_name(*r),
+                            Function::SetInteger.name_in(inst.standard)
                         ))
                     }
                     Quantity::Wave(_) => waves = true,
@@ -488,9 +555,11 @@ impl Instance {
         self.run(Function::SetInteger, |inst| {
             same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
             let before_init = matches!(inst.phase, Phase::Instantiated | Phase::InitializationMode);
-            for r in vr {
+            for (r, x) in vr.iter().zip(values) {
                 match inst.quantity(*r)? {
-                    Quantity::Wave(p) if p.is_integer() && before_init => {}
+                    Quantity::Wave(p) if p.is_integer() && before_init => {
+                        within_declared_limits(*r, f64::from(*x))?;
+                    }
                     Quantity::Wave(p) if p.is_integer() => {
                         return Err(format!(
                             "{} is a fixed parameter: set it before initialization mode ends",

@@ -26,7 +26,7 @@ pub struct FixedParameter {
     pub integer: bool,
     /// Default value.
     pub start: f64,
-    /// Smallest accepted value.
+    /// Smallest accepted value (minus infinity when unbounded).
     pub min: f64,
     /// Largest accepted value (infinite when unbounded).
     pub max: f64,
@@ -370,6 +370,51 @@ mod tests {
         assert!(PARAMETERS
             .iter()
             .all(|p| p.min <= p.start && p.start <= p.max));
+    }
+
+    #[test]
+    fn both_descriptions_declare_the_limits_the_instance_enforces() {
+        let limit = |name: &str| {
+            let p = PARAMETERS.iter().find(|p| p.name == name).unwrap();
+            (p.min, p.max)
+        };
+        assert_eq!(limit("wave.gamma"), (1.0, crate::waves::MAX_GAMMA));
+        let components = crate::waves::MAX_COMPONENTS as f64;
+        assert_eq!(limit("wave.components"), (1.0, components));
+        assert_eq!(limit("rho").1, crate::model::MAX_INPUT);
+        assert_eq!(limit("g").1, crate::model::MAX_INPUT);
+        // Any finite heading is one direction (modulo 360 degrees).
+        assert_eq!(limit("wave.heading"), (f64::NEG_INFINITY, f64::INFINITY));
+        let layout = Layout::new(vec![DofUnit::builtin("sway").unwrap()], false).unwrap();
+        let info = DescriptionInfo {
+            model_identifier: "Limits".into(),
+            guid: "{limits}".into(),
+            ..Default::default()
+        };
+        for xml in [
+            layout.model_description(FIXED_XML, &info).unwrap(),
+            layout.model_description_fmi3(FIXED_XML, &info).unwrap(),
+        ] {
+            let root = crate::xml::parse(&xml).unwrap();
+            for p in PARAMETERS {
+                // FMI 2.0: the <Real>/<Integer> inside the variable; FMI 3.0: the variable.
+                let variable = root
+                    .descendants()
+                    .find(|e| e.attribute("name") == Some(p.name))
+                    .unwrap();
+                let typed = variable.children.first().unwrap_or(variable);
+                let declared = |key: &str, unbounded: f64| {
+                    typed
+                        .attribute(key)
+                        .map_or(unbounded, |v| v.parse::<f64>().unwrap())
+                };
+                let found = (
+                    declared("min", f64::NEG_INFINITY),
+                    declared("max", f64::INFINITY),
+                );
+                assert_eq!(found, (p.min, p.max), "{}", p.name);
+            }
+        }
     }
 
     #[test]

@@ -9,6 +9,7 @@
 //! Every scalar (parameters, `velocity.<dof>`, `force.<dof>`, ...) keeps its name, value
 //! reference, unit and causality, so a master sees the same ports in both standards.
 
+use crate::fmi2::{Function, Standard};
 use crate::fmu::description::{DescriptionInfo, PARAMETERS};
 use crate::fmu::variables::{Causality, Layout, Quantity, VariablesError};
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
@@ -55,6 +56,22 @@ fn matrix_entry(q: Quantity) -> Option<(&'static str, usize, usize)> {
         Quantity::StiffnessHydrostatic(i, j) => Some(("stiffness_hydrostatic", i, j)),
         _ => None,
     }
+}
+
+/// `text` (of the FMI 2.0 description) with the FMI 2.0 functions it names replaced by their
+/// FMI 3.0 counterparts, and "fmi2 call" by "fmi3 call".
+pub fn fmi3_function_names(text: &str) -> String {
+    let mut functions: Vec<Function> = Function::ALL.to_vec();
+    // Longest first: fmi2GetRealStatus before fmi2GetReal.
+    functions.sort_by_key(|f| std::cmp::Reverse(f.name().len()));
+    let mut out = text.replace("fmi2 call", "fmi3 call");
+    for f in functions {
+        let fmi3 = f.name_in(Standard::Fmi3);
+        if fmi3.starts_with("fmi3") && !fmi3.contains(' ') {
+            out = out.replace(f.name(), fmi3);
+        }
+    }
+    out
 }
 
 impl Layout {
@@ -192,6 +209,20 @@ impl Layout {
                     depth_copy -= 1;
                     copied.push(event.into_owned());
                 }
+                Event::Empty(e) if depth_copy > 0 && e.name().as_ref() == b"Category" => {
+                    let mut category = BytesStart::new("Category");
+                    for a in e.attributes() {
+                        let a = a.map_err(|e| err(&e))?;
+                        let key = std::str::from_utf8(a.key.as_ref()).map_err(|e| err(&e))?;
+                        let value = a.unescape_value().map_err(|e| err(&e))?;
+                        let value = match key {
+                            "description" => fmi3_function_names(&value),
+                            _ => value.into_owned(),
+                        };
+                        category.push_attribute((key, value.as_str()));
+                    }
+                    copied.push(Event::Empty(category));
+                }
                 Event::Empty(_) if depth_copy > 0 => copied.push(event.into_owned()),
                 _ => {}
             }
@@ -264,7 +295,9 @@ impl Layout {
                 e.push_attribute(("unit", p.unit));
             }
             e.push_attribute(("start", start.as_str()));
-            e.push_attribute(("min", min.as_str()));
+            if p.min.is_finite() {
+                e.push_attribute(("min", min.as_str()));
+            }
             if p.max.is_finite() {
                 e.push_attribute(("max", max.as_str()));
             }

@@ -155,6 +155,14 @@ impl Model {
         Model::finite(|| self.variable_name(quantity), v)
     }
 
+    /// Network states: the length of the state vector `z` the component steps (spring
+    /// elongations, auxiliary velocities, substructure coordinates; the hull's positions and
+    /// velocities are the master's, not among them). The network's
+    /// [`crate::network::Network::state_count`].
+    pub fn network_states(&self) -> usize {
+        self.state.network.len()
+    }
+
     /// All forces (n entries), unchecked: where the inputs overflow an entry is not finite
     /// ([`Model::value`] refuses it).
     pub fn forces(&mut self) -> &DVector<f64> {
@@ -248,8 +256,24 @@ impl Model {
         let m = &self.system.added_mass_inf;
         let v = &self.state.velocity;
         let value = match (of, with_respect_to) {
-            (Quantity::Force(i), Quantity::Velocity(j)) if i < n && j < n => -d[(i, j)],
-            (Quantity::Force(i), Quantity::Acceleration(j)) if i < n && j < n && keep => -m[(i, j)],
+            // The exciting force is the force's only part that does not depend on the inputs.
+            (Quantity::Force(i) | Quantity::ForceRadiation(i), Quantity::Velocity(j))
+                if i < n && j < n =>
+            {
+                -d[(i, j)]
+            }
+            (Quantity::Force(i) | Quantity::ForceRadiation(i), Quantity::Acceleration(j))
+                if i < n && j < n && keep =>
+            {
+                -m[(i, j)]
+            }
+            // The waves depend on time only.
+            (Quantity::ForceExcitation(i), Quantity::Velocity(j)) if i < n && j < n => 0.0,
+            (Quantity::ForceExcitation(i), Quantity::Acceleration(j)) if i < n && j < n && keep => {
+                0.0
+            }
+            (Quantity::WaveElevation, Quantity::Velocity(j)) if j < n => 0.0,
+            (Quantity::WaveElevation, Quantity::Acceleration(j)) if j < n && keep => 0.0,
             // power = -F . v: d/dv_j = -F_j - sum_i v_i dF_i/dv_j
             (Quantity::Power, Quantity::Velocity(j)) if j < n => {
                 -self.outputs.radiation[j] + d.column(j).dot(v)
@@ -290,7 +314,7 @@ impl Model {
     ) -> Result<f64, ModelError> {
         let n = self.dof_count();
         let exists = match of {
-            Quantity::Force(i) => i < n,
+            Quantity::Force(i) | Quantity::ForceRadiation(i) => i < n,
             Quantity::AddedMassInf(i, j) | Quantity::DampingDirect(i, j) => i < n && j < n,
             Quantity::Power | Quantity::Energy => true,
             _ => false,
@@ -315,7 +339,7 @@ impl Model {
         let derivative = match of {
             Quantity::AddedMassInf(..) => 0.0,
             Quantity::DampingDirect(..) => 0.5 * value / g,
-            Quantity::Force(i) => self.force_g_derivative()[i],
+            Quantity::Force(i) | Quantity::ForceRadiation(i) => self.force_g_derivative()[i],
             Quantity::Power => -self.force_g_derivative().dot(&self.state.velocity),
             _ => self.spring_energy() / g,
         };

@@ -59,7 +59,10 @@ pub struct SceneReport {
     pub below: Option<RangeError>,
     /// Error above the band, on the sweep grid.
     pub above: Option<RangeError>,
-    /// Network states (the FMU's state size).
+    /// Network states: the length of the fitted network's state vector
+    /// ([`crate::network::Network::state_count`]: spring elongations, auxiliary velocities,
+    /// substructure coordinates; the hull's positions and velocities are not among them).
+    /// The FMU steps exactly these.
     pub states: usize,
 }
 
@@ -125,7 +128,7 @@ impl SceneReport {
             in_band: fit.max_relative_error,
             below,
             above,
-            states: 2 * fit.aux_dofs,
+            states: fit.network.state_count(),
         }
     }
 }

@@ -109,7 +109,7 @@ unsafe fn unsupported(c: fmi3Instance, name: &'static str, why: &'static str) ->
     // SAFETY: the caller's contract. CancelStep's row allows no phase: it only names a
     // panic, which `unsupported_fmi3` does not raise.
     unsafe {
-        with3(c, Function::CancelStep, |inst| {
+        with_instance_named(INSTANCE_MAGIC_FMI3, c, Function::CancelStep, name, |inst| {
             inst.unsupported_fmi3(name, why)
         })
     }
@@ -201,7 +201,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     resourcePath: fmi3String,
     _visible: fmi3Boolean,
     loggingOn: fmi3Boolean,
-    _eventModeUsed: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
     _earlyReturnAllowed: fmi3Boolean,
     _requiredIntermediateVariables: *const fmi3ValueReference,
     _nRequiredIntermediateVariables: usize,
@@ -220,6 +220,14 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             // SAFETY: non-null; the importer passes a NUL-terminated string.
             Some(unsafe { CStr::from_ptr(instanceName) })
         };
+        if eventModeUsed != 0 {
+            return refuse_instantiation(
+                logMessage,
+                instanceEnvironment,
+                "fmi3InstantiateCoSimulation",
+                format!("eventModeUsed = true: {NO_EVENT_MODE}"),
+            );
+        }
         // SAFETY: the importer passes NUL-terminated strings (or NULL).
         let (token, resources) = unsafe { (text(instantiationToken), text(resourcePath)) };
         match Instance::instantiate_fmi3(name, token, resources, loggingOn != 0) {
@@ -282,6 +290,9 @@ pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
                 (*component).magic = 0;
                 drop(Box::from_raw(component));
             }
+        } else {
+            // SAFETY: as above.
+            unsafe { refuse_free_of_other_standard(INSTANCE_MAGIC, instance, "fmi3FreeInstance") };
         }
     }));
 }
@@ -474,12 +485,17 @@ unsafe fn typeless3(
     n: usize,
 ) -> fmi3Status {
     let body = |inst: &mut Instance| {
+        if let Some(refused) = inst.refuse_outside_phase_as(like, name) {
+            return refused;
+        }
         // SAFETY: the caller's contract.
-        let vr = unsafe { slice(vr, n, "valueReferences[]") }?;
-        Ok(inst.no_variables_fmi3(name, like, vr))
+        match unsafe { slice(vr, n, "valueReferences[]") } {
+            Ok(vr) => inst.no_variables_fmi3(name, like, vr),
+            Err(message) => inst.reject_arguments_as(name, &message),
+        }
     };
     // SAFETY: the caller's contract.
-    unsafe { call3(instance, like, body) }
+    unsafe { with_instance_named(INSTANCE_MAGIC_FMI3, instance, like, name, body) }
 }
 
 /// Getters and setters of the types without variables: only an empty list succeeds.

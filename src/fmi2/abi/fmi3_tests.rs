@@ -474,3 +474,285 @@ fn initialization_is_one_call_with_its_start_and_stop_time() {
         "{log:?}"
     );
 }
+
+/// Calls each of the 26 typed getters or setters with one value reference; returns (name,
+/// status) in the standard's order.
+///
+/// # Safety
+/// `c` is a live FMI 3.0 instance.
+unsafe fn typed_calls(c: fmi3Instance, getters: bool) -> Vec<(&'static str, fmi3Status)> {
+    let vr = VELOCITY;
+    let (mut f64v, mut f32v, mut i8v, mut u8v, mut i16v, mut u16v) =
+        (0.0, 0f32, 0i8, 0u8, 0i16, 0u16);
+    let (mut i32v, mut u32v, mut i64v, mut u64v, mut b) = (0i32, 0u32, 0i64, 0u64, 0u8);
+    let mut s: fmi3String = std::ptr::null();
+    let mut size = 0usize;
+    let mut bytes: *const fmi3Byte = std::ptr::null();
+    // SAFETY: the caller's contract; one value each, in live locals.
+    unsafe {
+        if getters {
+            vec![
+                ("fmi3GetFloat32", fmi3GetFloat32(c, &vr, 1, &mut f32v, 1)),
+                ("fmi3GetFloat64", fmi3GetFloat64(c, &vr, 1, &mut f64v, 1)),
+                ("fmi3GetInt8", fmi3GetInt8(c, &vr, 1, &mut i8v, 1)),
+                ("fmi3GetUInt8", fmi3GetUInt8(c, &vr, 1, &mut u8v, 1)),
+                ("fmi3GetInt16", fmi3GetInt16(c, &vr, 1, &mut i16v, 1)),
+                ("fmi3GetUInt16", fmi3GetUInt16(c, &vr, 1, &mut u16v, 1)),
+                ("fmi3GetInt32", fmi3GetInt32(c, &vr, 1, &mut i32v, 1)),
+                ("fmi3GetUInt32", fmi3GetUInt32(c, &vr, 1, &mut u32v, 1)),
+                ("fmi3GetInt64", fmi3GetInt64(c, &vr, 1, &mut i64v, 1)),
+                ("fmi3GetUInt64", fmi3GetUInt64(c, &vr, 1, &mut u64v, 1)),
+                ("fmi3GetBoolean", fmi3GetBoolean(c, &vr, 1, &mut b, 1)),
+                ("fmi3GetString", fmi3GetString(c, &vr, 1, &mut s, 1)),
+                (
+                    "fmi3GetBinary",
+                    fmi3GetBinary(c, &vr, 1, &mut size, &mut bytes, 1),
+                ),
+            ]
+        } else {
+            vec![
+                ("fmi3SetFloat32", fmi3SetFloat32(c, &vr, 1, &f32v, 1)),
+                ("fmi3SetFloat64", fmi3SetFloat64(c, &vr, 1, &f64v, 1)),
+                ("fmi3SetInt8", fmi3SetInt8(c, &vr, 1, &i8v, 1)),
+                ("fmi3SetUInt8", fmi3SetUInt8(c, &vr, 1, &u8v, 1)),
+                ("fmi3SetInt16", fmi3SetInt16(c, &vr, 1, &i16v, 1)),
+                ("fmi3SetUInt16", fmi3SetUInt16(c, &vr, 1, &u16v, 1)),
+                ("fmi3SetInt32", fmi3SetInt32(c, &vr, 1, &i32v, 1)),
+                ("fmi3SetUInt32", fmi3SetUInt32(c, &vr, 1, &u32v, 1)),
+                ("fmi3SetInt64", fmi3SetInt64(c, &vr, 1, &i64v, 1)),
+                ("fmi3SetUInt64", fmi3SetUInt64(c, &vr, 1, &u64v, 1)),
+                ("fmi3SetBoolean", fmi3SetBoolean(c, &vr, 1, &b, 1)),
+                ("fmi3SetString", fmi3SetString(c, &vr, 1, &s, 1)),
+                ("fmi3SetBinary", fmi3SetBinary(c, &vr, 1, &size, &bytes, 1)),
+            ]
+        }
+    }
+}
+
+#[test]
+fn every_refused_typed_getter_and_setter_logs_its_own_name() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    // Getters are refused before initialization, setters after termination.
+    let instantiated = instantiate3(&fmu, &fmu.guid, &log3);
+    let terminated = ready3(&fmu, &log3);
+    // SAFETY: see the module docs.
+    let calls = unsafe {
+        assert_eq!(fmi3Terminate(terminated), fmi3OK);
+        log3.lock().unwrap().clear();
+        let mut calls = typed_calls(instantiated, true);
+        calls.extend(typed_calls(terminated, false));
+        assert_eq!(phase3(instantiated), Phase::Instantiated);
+        assert_eq!(phase3(terminated), Phase::Terminated);
+        fmi3FreeInstance(instantiated);
+        fmi3FreeInstance(terminated);
+        calls
+    };
+    assert_eq!(calls.len(), 26);
+    let log = log3.lock().unwrap();
+    assert_eq!(log.len(), 26, "{log:#?}");
+    for ((name, status), (level, category, message)) in calls.iter().zip(log.iter()) {
+        assert_eq!(*status, fmi3Error, "{name}");
+        let phase = if name.starts_with("fmi3Get") {
+            "Instantiated"
+        } else {
+            "Terminated"
+        };
+        let expected = format!("{name}: not allowed in phase {phase} (call refused)");
+        assert_eq!(
+            (*level, category.as_str(), message.as_str()),
+            (fmi3Error, "logStatusError", expected.as_str())
+        );
+    }
+}
+
+#[test]
+fn event_mode_is_refused_at_instantiation() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let path = CString::new(format!("{}/", fmu.dir.display())).unwrap();
+    let log3 = Log3::default();
+    let instantiate = |event_mode_used: u8| {
+        // SAFETY: NUL-terminated strings and a logger environment that outlives the instance.
+        unsafe {
+            fmi3InstantiateCoSimulation(
+                c"hull3".as_ptr(),
+                fmu.guid.as_ptr(),
+                path.as_ptr(),
+                0,
+                0,
+                event_mode_used,
+                0,
+                std::ptr::null(),
+                0,
+                &log3 as *const Log3 as *mut c_void,
+                Some(logger3),
+                std::ptr::null(),
+            )
+        }
+    };
+    assert!(instantiate(1).is_null());
+    {
+        let log = log3.lock().unwrap();
+        assert_eq!(log.len(), 1, "{log:?}");
+        assert_eq!(log[0].0, fmi3Error);
+        assert_eq!(
+            log[0].2,
+            "fmi3InstantiateCoSimulation: eventModeUsed = true: this FMU has no event mode \
+             (hasEventMode = false)"
+        );
+    }
+    let c = instantiate(0);
+    assert!(!c.is_null());
+    // SAFETY: a live instance.
+    unsafe { fmi3FreeInstance(c) };
+}
+
+#[test]
+fn an_int32_variable_is_no_float64_and_an_integer_no_real() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let log2 = Log::default();
+    let c3 = ready3(&fmu, &log3);
+    let c2 = ready(&fmu, &callbacks(&log2));
+    let kind = crate::fmu::description::VR_WAVE_KIND;
+    // SAFETY: see the module docs.
+    unsafe {
+        let (status, _) = get3(c3, &[kind], 1);
+        assert_eq!(status, fmi3Error);
+        let mut x = f64::NAN;
+        assert_eq!(fmi2GetReal(c2, &kind, 1, &mut x), fmi2Error);
+        // Its own getter reads it.
+        assert_eq!(fmi3Reset(c3), fmi3OK);
+        assert_eq!(fmi3EnterInitializationMode(c3, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+        let mut k = -1;
+        assert_eq!(fmi3GetInt32(c3, &kind, 1, &mut k, 1), fmi3OK);
+        assert_eq!(k, 0);
+        fmi3FreeInstance(c3);
+        fmi2FreeInstance(c2);
+    }
+    let log = log3.lock().unwrap();
+    assert_eq!(
+        log[0].2,
+        "fmi3GetFloat64: wave.kind is an Integer variable: read it with fmi3GetInt32"
+    );
+    let log = log2.lock().unwrap();
+    assert_eq!(
+        log[0].2,
+        "fmi2GetReal: wave.kind is an Integer variable: read it with fmi2GetInteger"
+    );
+}
+
+#[test]
+fn the_fmi3_description_and_log_name_fmi3_functions() {
+    use crate::fmu::description::{DescriptionInfo, FIXED_XML, LOG_CATEGORIES};
+    let layout =
+        crate::fmu::Layout::new(vec![crate::fmu::DofUnit::builtin("sway").unwrap()], false)
+            .unwrap();
+    let info = DescriptionInfo {
+        model_identifier: "Test3".into(),
+        guid: "{token}".into(),
+        ..Default::default()
+    };
+    let xml = layout.model_description_fmi3(FIXED_XML, &info).unwrap();
+    let root = crate::xml::parse(&xml).unwrap();
+    let categories: Vec<(&str, &str)> = root
+        .descendants()
+        .filter(|e| e.name == "Category")
+        .map(|e| {
+            let get = |k| e.attribute(k).unwrap();
+            (get("name"), get("description"))
+        })
+        .collect();
+    assert_eq!(categories.len(), LOG_CATEGORIES.len());
+    let text: String = categories.iter().map(|c| c.1).collect();
+    assert!(!text.contains("fmi2"), "{categories:#?}");
+    assert!(
+        text.contains("fmi3Reset or fmi3SetFMUState recover"),
+        "{text}"
+    );
+    assert!(text.contains("every fmi3 call"), "{text}");
+    // The log of an FMI 3.0 instance: refusals that name other functions name FMI 3.0 ones.
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let log3 = Log3::default();
+    let c = instantiate3_logging(&fmu, &fmu.guid, &log3, true);
+    let kind = crate::fmu::description::VR_WAVE_KIND;
+    // SAFETY: see the module docs; the state pointer is one the instance never issued
+    // (refused unread).
+    unsafe {
+        assert_eq!(fmi3SetFloat64(c, &kind, 1, &1.0, 1), fmi3Error);
+        assert_eq!(fmi3Reset(c), fmi3OK);
+        let foreign = 8usize as fmi3FMUState;
+        assert_eq!(fmi3SetFMUState(c, foreign), fmi3Error);
+        fmi3FreeInstance(c);
+    }
+    let log = log3.lock().unwrap();
+    assert!(log.len() >= 4, "{log:#?}");
+    for (_, _, message) in log.iter() {
+        assert!(!message.contains("fmi2"), "{message}");
+    }
+    assert!(
+        log.iter().any(|l| l.2.contains("set it with fmi3SetInt32")),
+        "{log:#?}"
+    );
+    assert!(
+        log.iter()
+            .any(|l| l.2.contains("fmi3GetFMUState or fmi3DeserializeFMUState")),
+        "{log:#?}"
+    );
+}
+
+#[test]
+fn a_call_of_the_other_standard_is_refused_with_a_line_naming_both() {
+    let fmu = Unpacked::new(SEED_NETWORK, false, "resources");
+    let (log2, log3) = (Log::default(), Log3::default());
+    let c3 = ready3(&fmu, &log3);
+    let c2 = ready(&fmu, &callbacks(&log2));
+    log3.lock().unwrap().clear();
+    // SAFETY: see the module docs; each call gets a live instance of the other standard,
+    // which it must refuse without reading its other arguments.
+    unsafe {
+        assert_eq!(fmi2DoStep(c3, 0.0, 0.1, 1), fmi2Error);
+        let mut x = 0.0;
+        assert_eq!(fmi2GetReal(c3, &FORCE, 1, &mut x), fmi2Error);
+        fmi2FreeInstance(c3);
+        let (mut a, mut b, mut e, mut t) = (0u8, 0u8, 0u8, 0.0);
+        let status = fmi3DoStep(c2, 0.0, 0.1, 1, &mut a, &mut b, &mut e, &mut t);
+        assert_eq!(status, fmi3Error);
+        assert_eq!(fmi3EnterEventMode(c2), fmi3Error);
+        let mut f = 0f32;
+        assert_eq!(fmi3GetFloat32(c2, &FORCE, 1, &mut f, 1), fmi3Error);
+        fmi3FreeInstance(c2);
+        assert_eq!(phase3(c3), Phase::StepComplete);
+        assert_eq!(
+            (*(c2 as *const Component)).instance.phase(),
+            Phase::StepComplete
+        );
+        fmi3FreeInstance(c3);
+        fmi2FreeInstance(c2);
+    }
+    let made_by_3 = "this instance was made by fmi3InstantiateCoSimulation (FMI 3.0)";
+    let made_by_2 = "this instance was made by fmi2Instantiate (FMI 2.0)";
+    let lines3: Vec<String> = log3.lock().unwrap().iter().map(|l| l.2.clone()).collect();
+    assert_eq!(
+        lines3,
+        [
+            format!("fmi2DoStep: {made_by_3}: call fmi3DoStep instead (call refused)"),
+            format!("fmi2GetReal: {made_by_3}: call fmi3GetFloat64 instead (call refused)"),
+            format!("fmi2FreeInstance: {made_by_3}: call fmi3FreeInstance instead (call refused)"),
+        ]
+    );
+    let lines2: Vec<String> = log2.lock().unwrap().iter().map(|l| l.2.clone()).collect();
+    assert_eq!(
+        lines2,
+        [
+            format!("fmi3DoStep: {made_by_2}: call fmi2DoStep instead (call refused)"),
+            format!(
+                "fmi3EnterEventMode: {made_by_2}: its standard has no such function (call refused)"
+            ),
+            format!(
+                "fmi3GetFloat32: {made_by_2}: its standard has no such function (call refused)"
+            ),
+            format!("fmi3FreeInstance: {made_by_2}: call fmi2FreeInstance instead (call refused)"),
+        ]
+    );
+}

@@ -108,11 +108,11 @@ impl Instance {
             for &r in vr {
                 match inst.reference(r)? {
                     Fmi3Reference::Time => values[at] = inst.model.time(),
-                    Fmi3Reference::Scalar(r) => values[at] = inst.scalar(r)?,
+                    Fmi3Reference::Scalar(r) => values[at] = inst.real_value(r)?,
                     Fmi3Reference::Array { first, count } => {
                         // count = n^2 <= 10^6 references, all existing (layout invariant).
                         for k in 0..count {
-                            values[at + k] = inst.scalar(first + k as u32)?;
+                            values[at + k] = inst.real_value(first + k as u32)?;
                         }
                         at += count;
                         continue;
@@ -122,11 +122,6 @@ impl Instance {
             }
             Ok(Status::Ok)
         })
-    }
-
-    fn scalar(&mut self, vr: u32) -> Result<f64, String> {
-        let q = self.quantity(vr)?;
-        self.model.value(q).map_err(|e| e.to_string())
     }
 
     /// fmi3SetFloat64: as fmi2SetReal; `time` and the arrays cannot be set.

@@ -646,3 +646,202 @@ fn no_value_leaves_with_ok_unless_it_is_finite() {
         .iter()
         .all(|x| x.is_finite()));
 }
+
+/// The (output, known) value-reference pairs of a model description's `<ModelStructure>`
+/// `<Outputs>`: FMI 2.0 (`Unknown` by 1-based index) or FMI 3.0 (`Output` by value
+/// reference).
+fn declared_dependencies(description: &str) -> Vec<(u32, Vec<u32>)> {
+    let root = crate::xml::parse(description).unwrap();
+    let references: Vec<u32> = root
+        .descendants()
+        .filter(|e| e.name == "ScalarVariable")
+        .map(|e| e.attribute("valueReference").unwrap().parse().unwrap())
+        .collect();
+    let numbers = |text: &str| -> Vec<u32> {
+        text.split_whitespace()
+            .map(|d| d.parse().unwrap())
+            .collect()
+    };
+    let mut declared = Vec::new();
+    if let Some(outputs) = root.descendants().find(|e| e.name == "Outputs") {
+        for unknown in &outputs.children {
+            let index: usize = unknown.attribute("index").unwrap().parse().unwrap();
+            let deps = numbers(unknown.attribute("dependencies").unwrap());
+            let deps = deps.iter().map(|&d| references[d as usize - 1]).collect();
+            declared.push((references[index - 1], deps));
+        }
+    }
+    for output in root.descendants().filter(|e| e.name == "Output") {
+        let vr = output.attribute("valueReference").unwrap().parse().unwrap();
+        declared.push((vr, numbers(output.attribute("dependencies").unwrap())));
+    }
+    declared.sort();
+    declared
+}
+
+#[test]
+fn every_declared_dependency_has_the_finite_difference_as_its_derivative() {
+    use crate::fmu::description::{DescriptionInfo, FIXED_XML, PARAMETERS};
+    use crate::fmu::Causality;
+    use crate::model::tests::{two_dof_substructure_network, TWO_DOF_EXCITATION};
+    let vr_of = |name: &str| {
+        PARAMETERS
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap()
+            .value_reference
+    };
+    // In a regular wave (kR = omega^2 R / g = 0.5 at rho = g = 1, R = 2 m), A_inf kept.
+    let resources = Resources::new(
+        two_dof_substructure_network(),
+        None,
+        Resources::options_text(true),
+    )
+    .unwrap()
+    .with_excitation(Some(TWO_DOF_EXCITATION.into()));
+    let mut inst = Instance::from_resources(c"hull", &resources, false).unwrap();
+    let period = 2.0 * std::f64::consts::PI / 0.5;
+    let parameters = [VR_RHO, VR_G, vr_of("wave.height"), vr_of("wave.period")];
+    assert_eq!(
+        inst.set_real(&parameters, &[1.0, 1.0, 1.5, period]),
+        Status::Ok
+    );
+    assert_eq!(inst.set_integer(&[vr_of("wave.kind")], &[1]), Status::Ok);
+    assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+    let variables = inst.layout.variables().to_vec();
+    let inputs: Vec<u32> = variables
+        .iter()
+        .filter(|v| v.causality == Causality::Input)
+        .map(|v| v.value_reference)
+        .collect();
+    assert_eq!(inputs.len(), 4);
+    let values = [0.5, -0.2, 0.7, -0.3];
+    assert_eq!(inst.set_real(&inputs, &values), Status::Ok);
+    assert_eq!(inst.do_step(0.0, 0.7, true), Status::Ok);
+    assert!(inst.model.state().network.amax() > 0.0);
+    let info = DescriptionInfo {
+        model_identifier: "Test".into(),
+        guid: "{test}".into(),
+        damping_direct: Some(inst.model.system().damping_direct().clone()),
+        added_mass_inf: Some(inst.model.system().added_mass_inf().clone()),
+        ..Default::default()
+    };
+    let fmi2 = declared_dependencies(&inst.layout.model_description(FIXED_XML, &info).unwrap());
+    let fmi3 = declared_dependencies(
+        &inst
+            .layout
+            .model_description_fmi3(FIXED_XML, &info)
+            .unwrap(),
+    );
+    assert_eq!(
+        fmi2, fmi3,
+        "the two standards declare the same dependencies"
+    );
+    let outputs: Vec<u32> = fmi2.iter().map(|d| d.0).collect();
+    // force, force_radiation, force_excitation (2 each), power, energy, wave.elevation.
+    assert_eq!(outputs.len(), 9);
+    let name = |vr: u32| {
+        let variable = variables.iter().find(|v| v.value_reference == vr);
+        variable.unwrap().name.clone()
+    };
+    let names: Vec<String> = outputs.iter().map(|&o| name(o)).collect();
+    assert!(
+        get(&mut inst, &outputs).iter().all(|x| *x != 0.0),
+        "{names:?}"
+    );
+    let mut checked = 0;
+    for (k, &input) in inputs.iter().enumerate() {
+        let eps = 1e-6;
+        assert_eq!(inst.set_real(&[input], &[values[k] + eps]), Status::Ok);
+        let plus = get(&mut inst, &outputs);
+        assert_eq!(inst.set_real(&[input], &[values[k] - eps]), Status::Ok);
+        let minus = get(&mut inst, &outputs);
+        assert_eq!(inst.set_real(&[input], &[values[k]]), Status::Ok);
+        for (fmi3, (o, (output, deps))) in [false, true]
+            .into_iter()
+            .flat_map(|s| fmi2.iter().enumerate().map(move |x| (s, x)))
+        {
+            let mut exact = [f64::NAN];
+            let status = if fmi3 {
+                inst.get_directional_derivative_fmi3(&[*output], &[input], &[1.0], &mut exact)
+            } else {
+                inst.get_directional_derivative(&[*output], &[input], &[1.0], &mut exact)
+            };
+            let what = format!("d {} / d {} (FMI 3.0: {fmi3})", names[o], name(input));
+            assert_eq!(status, Status::Ok, "{what}: {:?}", inst.take_messages());
+            let difference = (plus[o] - minus[o]) / (2.0 * eps);
+            if deps.contains(&input) {
+                // Linear or quadratic in the input: exact to rounding (|value| 1e-16 / eps).
+                let rounding = 1e-9 * plus[o].abs().max(minus[o].abs());
+                assert!(
+                    (difference - exact[0]).abs() < 1e-8 * (1.0 + exact[0].abs()) + rounding,
+                    "{what}: {difference} vs {}",
+                    exact[0]
+                );
+                assert!(exact[0] != 0.0, "{what} declared but zero");
+                checked += 1;
+            } else {
+                // Not declared: no dependency at all.
+                assert_eq!((difference, exact[0]), (0.0, 0.0), "{what}");
+            }
+        }
+    }
+    // force and force_radiation: 2 x 2 on velocities and accelerations each, power on all
+    // four inputs, energy on the velocities; twice (both standards).
+    assert_eq!(checked, 2 * (2 * 2 * 4 + 4 + 2));
+}
+
+#[test]
+fn every_declared_parameter_limit_is_the_enforced_one() {
+    use crate::fmu::description::PARAMETERS;
+    // Each parameter at its declared bounds is accepted and just beyond refused; where none
+    // is declared, an extreme finite value is accepted.
+    let mut probes = 0;
+    for p in PARAMETERS {
+        let vr = p.value_reference;
+        let set = |x: f64| {
+            let mut inst = instance(SEED_NETWORK, false);
+            let status = if p.integer {
+                inst.set_integer(&[vr], &[x as i32])
+            } else {
+                inst.set_real(&[vr], &[x])
+            };
+            (status, inst.take_messages())
+        };
+        let (min, max) = (p.min, p.max);
+        let inside = [
+            if min.is_finite() { min } else { -1e300 },
+            if max.is_finite() { max } else { 1e300 },
+        ];
+        for x in inside {
+            let (status, log) = set(x);
+            assert_eq!(status, Status::Ok, "{} = {x}: {log:?}", p.name);
+            probes += 1;
+        }
+        let below = if p.integer {
+            min - 1.0
+        } else {
+            min.next_down()
+        };
+        let above = if p.integer { max + 1.0 } else { max.next_up() };
+        for x in [below, above] {
+            let fits_i32 = (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x);
+            if !x.is_finite() || (p.integer && !fits_i32) {
+                continue;
+            }
+            let (status, log) = set(x);
+            assert_eq!(
+                status,
+                Status::Error,
+                "{} = {x} is outside [{min}, {max}]",
+                p.name
+            );
+            assert!(log[0].text.contains(p.name), "{log:?}");
+            probes += 1;
+        }
+    }
+    // rho, g, height, period, ramp, gamma, kind, components: both bounds (or one) probed.
+    assert!(probes >= 2 * PARAMETERS.len() + 12, "{probes}");
+}
