@@ -42,9 +42,9 @@ fn summary_inspect_scene_and_log_give_the_state_vector_length() {
         "--dofs",
         "sway,heave,roll",
         "--panels",
-        "32",
+        "16",
         "--kr",
-        "0.05:5:24",
+        "0.05:5:12",
         "-o",
         archive.to_str().unwrap(),
     ]);
