@@ -139,7 +139,10 @@ pub fn band(
     Ok((lo, hi))
 }
 
-/// Fits every DOF's radiation force of `database` at once over `band` (rad/s).
+/// Fits every DOF's radiation force of `database` at once over `band` (rad/s); with
+/// `length_unit` L, in DOF coordinates where a rotation counts L times its angle, so that the
+/// fit does not depend on the unit of length ([`identify::fit_in_dof_units`]).
+#[allow(clippy::too_many_arguments)]
 pub fn fit(
     database: Database,
     description: String,
@@ -148,6 +151,7 @@ pub fn fit(
     tolerance: Option<f64>,
     order: Option<usize>,
     sweep_time: Duration,
+    length_unit: Option<f64>,
 ) -> Result<BodyFit, String> {
     if let Some(t) = tolerance {
         if !(t.is_finite() && t > 0.0) {
@@ -175,16 +179,24 @@ pub fn fit(
         ));
     }
     let start = Instant::now();
-    let report = identify::fit(
-        &database.response(),
-        &FitParams {
-            band: (lo, hi),
-            tolerance,
-            order,
-            noise: Some(database.noise.clone()),
-            ..FitParams::default()
-        },
-    )
+    let params = FitParams {
+        band: (lo, hi),
+        tolerance,
+        order,
+        noise: Some(database.noise.clone()),
+        ..FitParams::default()
+    };
+    let report = match length_unit {
+        Some(unit) => {
+            let factors: Vec<f64> = database
+                .dof_units
+                .iter()
+                .map(|d| unit.powi(i32::from(d.length_exponent)))
+                .collect();
+            identify::fit_in_dof_units(&database.response(), &params, &factors)
+        }
+        None => identify::fit(&database.response(), &params),
+    }
     .map_err(|e| format!("{}: the fit failed: {e}", database.name))?;
     Ok(BodyFit {
         database,

@@ -131,6 +131,8 @@ pub fn fit(
         crate::output::stderr_line(&format!("warning: {warning}"));
     }
     let description = format!("database {}", summary(&database, elapsed));
+    // ULEN for WAMIT files: the fit is then the same at any length scale.
+    let length_unit = Some(database.reference_length);
     body::fit(
         database,
         description,
@@ -139,6 +141,7 @@ pub fn fit(
         tolerance,
         order,
         elapsed,
+        length_unit,
     )
     .map_err(|e| format!("{}: {e}", args.hull))
 }

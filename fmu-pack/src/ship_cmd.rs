@@ -185,6 +185,7 @@ pub fn fit(
         tolerance,
         order,
         sweep_time,
+        None,
     )
     .map_err(|e| format!("{}: {e}", args.hull))
 }

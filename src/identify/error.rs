@@ -14,6 +14,8 @@ pub enum IdentifyError {
     InvalidParams(String),
     /// A rational fit could not be realized as a passive network.
     Synthesis(String),
+    /// The fitted network holds numbers a network file cannot.
+    NotWritable(String),
 }
 
 impl fmt::Display for IdentifyError {
@@ -23,6 +25,12 @@ impl fmt::Display for IdentifyError {
             IdentifyError::InvalidBand(m) => write!(f, "invalid fit band: {m}"),
             IdentifyError::InvalidParams(m) => write!(f, "invalid fit parameters: {m}"),
             IdentifyError::Synthesis(m) => write!(f, "no passive network realizes the fit: {m}"),
+            IdentifyError::NotWritable(m) => {
+                write!(
+                    f,
+                    "the fitted network cannot be written as a network file: {m}"
+                )
+            }
         }
     }
 }

@@ -170,17 +170,123 @@ pub use params::{CoupledMethod, FitParams, FitReport, DEFAULT_TOLERANCE};
 pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
 pub use response::FrequencyResponse;
 
-use crate::network::NetworkForm;
+use crate::network::{Network, NetworkError, NetworkForm};
+use nalgebra::DMatrix;
 use problem::Problem;
 
 /// Fits a network to `data` (see the module docs): of `params.form`, or of the automatic form
-/// if it is `None`.
+/// if it is `None`. The report's errors and verdict are those of the network as its file
+/// holds it ([`check_written_network`]).
 pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, IdentifyError> {
-    match params.form {
+    let mut report = match params.form {
         Some(form) => fit_form(data, params, form),
         None if data.dof_count() == 1 => fit_one_dof_automatic(data, params),
         None => fit_form(data, params, NetworkForm::Coupled),
+    }?;
+    check_written_network(&mut report, data)?;
+    Ok(report)
+}
+
+/// [`fit`] in scaled DOF coordinates `q'_i = f_i q_i`: the data `A~'_ij = A~_ij / (f_i f_j)`
+/// is fitted and the network mapped back ([`Network::with_dof_factors`]); the report is the
+/// mapped network's against `data`. With `f_i = L^(e_i)` (`L` a length, `e_i` the DOF's length
+/// exponent: 1 for a rotation) every entry has the units of a mass, so the fit no longer
+/// depends on the unit of length: the error floor [`SCALE_FLOOR`] compares DOFs of one
+/// dimension. Without it, a sphere's WAMIT data at a length scale of 1e6 m (translations
+/// 2e23 kg, rotations 7e35 kg m^2) had its translations measured against 1e-6 of the
+/// rotations': its heave went unfitted (94.6 % off) under a verdict of 0.67 %.
+///
+/// [`Network::with_dof_factors`]: crate::network::Network::with_dof_factors
+pub fn fit_in_dof_units(
+    data: &FrequencyResponse,
+    params: &FitParams,
+    factors: &[f64],
+) -> Result<FitReport, IdentifyError> {
+    let n = data.dof_count();
+    if factors.len() != n || factors.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err(IdentifyError::InvalidParams(format!(
+            "DOF factors {factors:?}: expected {n} finite positive numbers"
+        )));
     }
+    let unscale = |i: usize, j: usize| 1.0 / (factors[i] * factors[j]);
+    let scaled = FrequencyResponse {
+        added_mass: data
+            .added_mass
+            .iter()
+            .map(|m| DMatrix::from_fn(n, n, |i, j| m[(i, j)] * unscale(i, j)))
+            .collect(),
+        added_mass_inf: DMatrix::from_fn(n, n, |i, j| data.added_mass_inf[(i, j)] * unscale(i, j)),
+        ..data.clone()
+    };
+    let scaled_params = FitParams {
+        noise: params.noise.as_ref().map(|m| {
+            DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| {
+                m[(i, j)] * unscale(i.min(n - 1), j.min(n - 1))
+            })
+        }),
+        ..params.clone()
+    };
+    let mut report = fit(&scaled, &scaled_params)?;
+    report.network = report
+        .network
+        .with_dof_factors(factors)
+        .map_err(|e| IdentifyError::InvalidData(format!("the fitted network: {e}")))?;
+    let rescale = |m: &DMatrix<f64>| DMatrix::from_fn(n, n, |i, j| m[(i, j)] / unscale(i, j));
+    report.error_scale = rescale(&report.error_scale);
+    report.max_error = rescale(&report.max_error);
+    report.rms_error = rescale(&report.rms_error);
+    let largest = factors.iter().fold(0.0, |a: f64, f| a.max(*f));
+    report.added_mass_inf_adjustment *= largest * largest;
+    check_written_network(&mut report, data)?;
+    Ok(report)
+}
+
+/// Makes the report's errors and verdict those of the network as written: its file text is
+/// read back (refused, naming the limit, if a number exceeds what a network file holds) and
+/// its response compared with `data` at the report's band frequencies, in the report's norm
+/// (each entry's largest error over `error_scale`). A non-finite error is never within the
+/// tolerance.
+pub fn check_written_network(
+    report: &mut FitReport,
+    data: &FrequencyResponse,
+) -> Result<(), IdentifyError> {
+    let written = Network::from_xml_str(&report.network.to_xml_string(), "the fitted network")
+        .map_err(|e| {
+            IdentifyError::NotWritable(match e {
+                NetworkError::File { message, .. } => message,
+                other => other.to_string(),
+            })
+        })?;
+    let n = data.dof_count();
+    let (lo, hi) = report.band;
+    let mut max = DMatrix::<f64>::zeros(n, n);
+    let mut sum = DMatrix::<f64>::zeros(n, n);
+    let mut count = 0usize;
+    for (w, a) in data.omega.iter().zip(&data.added_mass) {
+        if *w < lo || *w > hi {
+            continue;
+        }
+        let h = written.added_mass_tf(*w);
+        for k in 0..n * n {
+            let e = (h[k] - a[k]).norm();
+            max[k] = problem::nan_max(max[k], e);
+            sum[k] += e * e;
+        }
+        count += 1;
+    }
+    if count == 0 {
+        return Err(IdentifyError::InvalidBand(format!(
+            "no frequency of the data lies in the fitted band {lo} .. {hi} rad/s"
+        )));
+    }
+    report.max_relative_error = problem::relative_error(&max, &report.error_scale);
+    report.tolerance_met = report.max_relative_error <= report.tolerance;
+    report.max_error = max;
+    report.rms_error = sum.map(|s| (s / count as f64).sqrt());
+    report.states = written.state_count();
+    report.aux_dofs = written.aux_dof_count();
+    report.network = written;
+    Ok(())
 }
 
 /// One DOF, no form given: the series chain, and with [`CoupledMethod::Rational`] the rational
@@ -378,7 +484,7 @@ fn noise_floor(
     let mut worst = (0.0, 0, 0);
     for i in 0..n {
         for j in 0..n {
-            let scale = (problem.scale[i] * problem.scale[j]).sqrt();
+            let scale = problem::error_scale(&problem.scale, i, j);
             let floor = noise[(i, j)] / scale;
             if floor > worst.0 {
                 worst = (floor, i.min(j), i.max(j));

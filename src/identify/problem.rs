@@ -88,7 +88,7 @@ impl Problem {
             .map(|m| {
                 DMatrix::from_fn(n, n, |i, j| {
                     ((m[(i, j)] + m[(j, i)]) * 0.5 - added_mass_inf[(i, j)])
-                        / (scale[i] * scale[j]).sqrt()
+                        / error_scale(&scale, i, j)
                 })
             })
             .collect();
@@ -118,7 +118,7 @@ impl Problem {
         let mut worst: f64 = 0.0;
         for i in 0..n {
             for j in 0..n {
-                worst = worst.max(max[(i, j)] / (self.scale[i] * self.scale[j]).sqrt());
+                worst = nan_max(worst, max[(i, j)] / error_scale(&self.scale, i, j));
             }
         }
         worst
@@ -154,11 +154,8 @@ impl Problem {
     ) -> FitReport {
         let n = self.n();
         let (max_error, rms_error) = self.errors(&network);
-        let error_scale = DMatrix::from_fn(n, n, |i, j| (self.scale[i] * self.scale[j]).sqrt());
-        let mut max_relative_error: f64 = 0.0;
-        for k in 0..n * n {
-            max_relative_error = max_relative_error.max(max_error[k] / error_scale[k]);
-        }
+        let error_scale = DMatrix::from_fn(n, n, |i, j| error_scale(&self.scale, i, j));
+        let max_relative_error = relative_error(&max_error, &error_scale);
         FitReport {
             aux_dofs: network.aux_dof_count(),
             states: network.state_count(),
@@ -207,6 +204,31 @@ impl Problem {
             self.omega[self.omega.len() - 1]
         ))
     }
+}
+
+/// `sqrt(s_i s_j)`, without overflow: at a length scale of 1e30 m the products of the
+/// rotations' scales (7e155 kg m^2) were infinite, every error zero, and a network of no
+/// states reported 0 % error.
+pub(super) fn error_scale(scale: &DVector<f64>, i: usize, j: usize) -> f64 {
+    scale[i].sqrt() * scale[j].sqrt()
+}
+
+/// The larger of two errors, NaN if either is (`f64::max` would drop it, and a network
+/// whose response is not finite would be reported within the tolerance).
+pub(super) fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// The largest `max_error_ij / error_scale_ij` (NaN if any is).
+pub(super) fn relative_error(max_error: &DMatrix<f64>, error_scale: &DMatrix<f64>) -> f64 {
+    max_error
+        .iter()
+        .zip(error_scale.iter())
+        .fold(0.0, |worst, (e, s)| nan_max(worst, e / s))
 }
 
 /// Smallest DOF scale `s_i`, as a fraction of the largest one (see the module docs).

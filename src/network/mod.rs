@@ -399,6 +399,40 @@ impl Network {
         Ok(())
     }
 
+    /// The same network with the hull DOFs' added mass scaled, `H_ij(s) -> f_i f_j H_ij(s)`
+    /// (exact up to rounding): the network in the coordinates `q_i` of a network made for
+    /// `q'_i = f_i q_i` (forces `F_i = f_i F'_i`). `A_inf`, the branch directions and the
+    /// substructures' hull columns (`spring_incidence`, `damping`) take the factors; stages and
+    /// aux masses stay. Refused unless there is one finite positive factor per DOF.
+    pub fn with_dof_factors(&self, factors: &[f64]) -> Result<Network, NetworkError> {
+        let n = self.dof_count();
+        if factors.len() != n || factors.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
+            return Err(NetworkError::Invalid(format!(
+                "DOF factors {factors:?}: expected {n} finite positive numbers"
+            )));
+        }
+        let mut network = self.clone();
+        for j in 0..n {
+            for i in 0..n {
+                network.added_mass_inf[(i, j)] *= factors[i] * factors[j];
+            }
+        }
+        for branch in &mut network.branches {
+            for (d, f) in branch.direction.iter_mut().zip(factors) {
+                *d *= f;
+            }
+        }
+        for sub in &mut network.substructures {
+            for (i, f) in factors.iter().enumerate() {
+                let hull = sub.masses + i;
+                sub.spring_incidence.column_mut(hull).scale_mut(*f);
+                sub.damping.column_mut(hull).scale_mut(*f);
+                sub.damping.row_mut(hull).scale_mut(*f);
+            }
+        }
+        Ok(network)
+    }
+
     /// The same network for water density `rho` and gravity `g` (exact; see the module docs).
     /// Non-positive or non-finite values give a network that [`Network::validate`] rejects.
     pub fn scaled(&self, rho: f64, g: f64) -> Network {
