@@ -168,7 +168,7 @@ pub mod vector_fitting;
 pub use error::IdentifyError;
 pub use params::{CoupledMethod, FitParams, FitReport, DEFAULT_TOLERANCE};
 pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
-pub use response::FrequencyResponse;
+pub use response::{FrequencyResponse, FREQUENCY_RANGE, MAX_FREQUENCY_RATIO, VALUE_RANGE};
 
 use crate::network::NetworkForm;
 use problem::Problem;
