@@ -159,6 +159,34 @@ fn every_number_of_a_sweep_is_finite_or_the_sweep_fails() {
     assert!(result.reciprocity_residual.iter().all(|r| r.is_finite()));
 }
 
+/// Before: a synthetic database of 20 DOFs (diagonally dominant, 40 frequencies) fitted for
+/// more than 288 s of CPU time without finishing (10 DOFs: 19 s). Now more than
+/// `MAX_FIT_DOFS` are refused before any work.
+#[test]
+fn a_fit_of_more_dofs_than_its_limit_is_refused_before_any_work() {
+    use hydrofmu::identify::{self, FitParams, FrequencyResponse, MAX_FIT_DOFS};
+    use nalgebra::DMatrix;
+    use num_complex::Complex64;
+    assert_eq!(MAX_FIT_DOFS, 12);
+    let n = MAX_FIT_DOFS + 1;
+    let omega = vec![0.5, 1.0, 2.0, 4.0];
+    let response = FrequencyResponse {
+        dof_names: (0..n).map(|i| format!("mode{i}")).collect(),
+        added_mass: omega
+            .iter()
+            .map(|w| DMatrix::from_diagonal_element(n, n, Complex64::new(1.0 + 1.0 / w, -1.0 / w)))
+            .collect(),
+        omega,
+        added_mass_inf: DMatrix::identity(n, n),
+        rho: 1025.0,
+        g: 9.81,
+    };
+    let e = identify::fit(&response, &FitParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("13 DOFs; a fit takes at most 12"), "{e}");
+}
+
 /// WAMIT's hemisphere (tests/data/wamit) with its `.1` file `edit`ed, imported at `ulen`.
 fn hemisphere(
     tag: &str,
