@@ -40,6 +40,16 @@ use crate::realize::StateSpace;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 
+/// The smallest eigenvalue of the symmetric `m`; minus infinity (never passive) for a
+/// non-finite entry, on which nalgebra's iteration does not end.
+fn smallest_eigenvalue(m: &DMatrix<f64>) -> f64 {
+    if m.iter().all(|x| x.is_finite()) {
+        m.clone().symmetric_eigenvalues().min()
+    } else {
+        f64::NEG_INFINITY
+    }
+}
+
 /// The result of [`check`].
 #[derive(Clone, Debug)]
 pub struct PassivityReport {
@@ -200,16 +210,16 @@ pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityRepor
         embedded.view_mut((n, n), (n, n)).copy_from(&hermitian);
         embedded.view_mut((0, n), (n, n)).copy_from(&(-&imaginary));
         embedded.view_mut((n, 0), (n, n)).copy_from(&imaginary);
-        let smallest = embedded.symmetric_eigenvalues().min();
+        let smallest = smallest_eigenvalue(&embedded);
         if smallest < min_eigenvalue {
             min_eigenvalue = smallest;
             at_omega = omega;
         }
     }
     // omega -> inf: Re Z = -(D + D^T) / 2 (exact; a finite test frequency may miss it).
-    let at_infinity = (-(system.d + system.d.transpose()) * 0.5).symmetric_eigenvalues();
-    if n > 0 && at_infinity.min() < min_eigenvalue {
-        min_eigenvalue = at_infinity.min();
+    let at_infinity = smallest_eigenvalue(&(-(system.d + system.d.transpose()) * 0.5));
+    if n > 0 && at_infinity < min_eigenvalue {
+        min_eigenvalue = at_infinity;
         at_omega = f64::INFINITY;
     }
     let min_eigenvalue = min_eigenvalue / scale;

@@ -158,3 +158,97 @@ fn every_number_of_a_sweep_is_finite_or_the_sweep_fails() {
         .all(|w| w.direct.iter().all(finite)));
     assert!(result.reciprocity_residual.iter().all(|r| r.is_finite()));
 }
+
+/// Before: a synthetic database of 20 DOFs (diagonally dominant, 40 frequencies) fitted for
+/// more than 288 s of CPU time without finishing (10 DOFs: 19 s). Now more than
+/// `MAX_FIT_DOFS` are refused before any work.
+#[test]
+fn a_fit_of_more_dofs_than_its_limit_is_refused_before_any_work() {
+    use hydrofmu::identify::{self, FitParams, FrequencyResponse, MAX_FIT_DOFS};
+    use nalgebra::DMatrix;
+    use num_complex::Complex64;
+    assert_eq!(MAX_FIT_DOFS, 12);
+    let n = MAX_FIT_DOFS + 1;
+    let omega = vec![0.5, 1.0, 2.0, 4.0];
+    let response = FrequencyResponse {
+        dof_names: (0..n).map(|i| format!("mode{i}")).collect(),
+        added_mass: omega
+            .iter()
+            .map(|w| DMatrix::from_diagonal_element(n, n, Complex64::new(1.0 + 1.0 / w, -1.0 / w)))
+            .collect(),
+        omega,
+        added_mass_inf: DMatrix::identity(n, n),
+        rho: 1025.0,
+        g: 9.81,
+    };
+    let e = identify::fit(&response, &FitParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("13 DOFs; a fit takes at most 12"), "{e}");
+}
+
+/// WAMIT's hemisphere (tests/data/wamit) with its `.1` file `edit`ed, imported at `ulen`.
+fn hemisphere(
+    tag: &str,
+    ulen: f64,
+    edit: impl Fn(&str) -> String,
+) -> hydrofmu::identify::FrequencyResponse {
+    use hydrofmu::database::import::{import, ImportParams};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/wamit");
+    let dir = std::env::temp_dir().join(format!("hydrofmu-hostile-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(data.join("sphere.1")).unwrap();
+    let edited: Vec<String> = text.lines().map(&edit).collect();
+    std::fs::write(dir.join("sphere.1"), edited.join("\n") + "\n").unwrap();
+    let mut params = ImportParams::new();
+    params.wamit.length_scale = ulen;
+    let response = import(&dir.join("sphere.1"), &params).unwrap().response();
+    let _ = std::fs::remove_dir_all(&dir);
+    response
+}
+
+/// Before: at ULEN = 1e40 (largest entry 1.3e203 kg m^2) the fit returned order 0 with an
+/// error of "0.000 %" (its errors overflowed to NaN, which the maximum skipped) and the
+/// passivity check of that empty network panicked in nalgebra's Schur; at 1e-40 order 0 with
+/// 64 %. Now refused before the fit, the range named.
+#[test]
+fn a_badly_scaled_database_is_refused_naming_the_representable_range() {
+    use hydrofmu::identify::{self, FitParams, VALUE_RANGE};
+    assert_eq!(VALUE_RANGE, (1e-50, 1e50));
+    for ulen in [1e40, 1e-40] {
+        let response = hemisphere("ulen", ulen, str::to_string);
+        let e = identify::fit(&response, &FitParams::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("largest added mass entry") && e.contains("outside the range 1e-50 .. 1e50"),
+            "{ulen}: {e}"
+        );
+    }
+}
+
+/// Before: periods of 1e300 and 1e-300 s (omega 6.3e-300 and 6.3e300 rad/s) kept nalgebra's
+/// SVD in the vector fit iterating for ever (killed after 60 s). Now refused before the fit.
+#[test]
+fn frequencies_past_the_range_are_refused_before_the_fit() {
+    use hydrofmu::identify::{self, FitParams, FrequencyResponse};
+    let response = hemisphere("periods", 1.0, |line| {
+        line.replacen(" 3.141593E+01 ", " 1.0E+300 ", 1)
+            .replacen(" 2.617996E+00 ", " 1.0E-300 ", 1)
+    });
+    assert!(response.omega[0] < 1e-299 && response.omega[6] > 1e299);
+    let e = identify::fit(&response, &FitParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("outside the range 1e-12 .. 1e12 rad/s"), "{e}");
+    // Within the range but 1e13 apart.
+    let mut spread = FrequencyResponse {
+        omega: vec![1e-6, 1.0, 1e7],
+        ..response.clone()
+    };
+    spread.added_mass.truncate(3);
+    let e = identify::fit(&spread, &FitParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("a ratio above 1e12"), "{e}");
+}

@@ -9,6 +9,19 @@ use num_complex::Complex64;
 use super::IdentifyError;
 use crate::network::Network;
 
+/// The frequencies a fit accepts (rad/s): wider grids make the vector fit's basis span more
+/// than 24 decades and its least-squares problems lose every digit.
+pub const FREQUENCY_RANGE: (f64, f64) = (1e-12, 1e12);
+
+/// The largest frequency over the smallest a fit accepts.
+pub const MAX_FREQUENCY_RATIO: f64 = 1e12;
+
+/// The magnitudes (SI) a fit accepts for the largest entry of `A~` and `A_inf`: the fit and
+/// the network it builds square and multiply values (stiffness `m omega^2`, the passivity
+/// check's products), which left the representable range from about 1e150 (overflow) and
+/// 1e-85 (underflow, a worse fit) on the hemisphere's data scaled up and down.
+pub const VALUE_RANGE: (f64, f64) = (1e-50, 1e50);
+
 /// Complex added mass of the hull over frequency (the panel method's output).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrequencyResponse {
@@ -55,7 +68,8 @@ impl FrequencyResponse {
         self.dof_names.len()
     }
 
-    /// Checks sizes, ordering and finiteness.
+    /// Checks sizes, ordering, finiteness and ranges ([`FREQUENCY_RANGE`],
+    /// [`MAX_FREQUENCY_RATIO`], [`VALUE_RANGE`]).
     pub fn validate(&self) -> Result<(), IdentifyError> {
         let bad = |m: String| Err(IdentifyError::InvalidData(m));
         let n = self.dof_names.len();
@@ -88,6 +102,25 @@ impl FrequencyResponse {
                 return bad(format!("omega is not strictly ascending at index {k}"));
             }
         }
+        let (lowest, highest) = FREQUENCY_RANGE;
+        if let Some(&w) = self
+            .omega
+            .iter()
+            .find(|&&w| !(lowest..=highest).contains(&w))
+        {
+            return bad(format!(
+                "omega = {w:e} rad/s is outside the range {lowest:e} .. {highest:e} rad/s a fit \
+                 accepts (check the frequency column's unit)"
+            ));
+        }
+        if let (Some(&first), Some(&last)) = (self.omega.first(), self.omega.last()) {
+            if last > MAX_FREQUENCY_RATIO * first {
+                return bad(format!(
+                    "the frequencies span {first:e} .. {last:e} rad/s, a ratio above \
+                     {MAX_FREQUENCY_RATIO:e}: the fit cannot resolve so wide a grid"
+                ));
+            }
+        }
         for (k, a) in self.added_mass.iter().enumerate() {
             if a.nrows() != n || a.ncols() != n {
                 return bad(format!(
@@ -118,6 +151,26 @@ impl FrequencyResponse {
         }
         if a.iter().any(|x| !x.is_finite()) {
             return bad("added_mass_inf has a non-finite entry".into());
+        }
+        self.check_value_range()
+    }
+
+    /// The largest entry of `A~` and `A_inf` within [`VALUE_RANGE`] (all zero is left to the
+    /// fit, which names it).
+    fn check_value_range(&self) -> Result<(), IdentifyError> {
+        let largest = self
+            .added_mass
+            .iter()
+            .flat_map(|m| m.iter().map(|z| z.norm()))
+            .chain(self.added_mass_inf.iter().map(|x| x.abs()))
+            .fold(0.0, f64::max);
+        let (smallest_allowed, largest_allowed) = VALUE_RANGE;
+        if largest > largest_allowed || (largest > 0.0 && largest < smallest_allowed) {
+            return Err(IdentifyError::InvalidData(format!(
+                "the largest added mass entry is {largest:e} (SI), outside the range \
+                 {smallest_allowed:e} .. {largest_allowed:e} the fit can represent (check the \
+                 length scale and units of the data)"
+            )));
         }
         Ok(())
     }

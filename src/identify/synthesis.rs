@@ -113,7 +113,12 @@ fn reciprocal_realization(
             });
             blocks.push((a, b, cg));
         } else {
-            let svd = r.clone().svd(true, true);
+            let svd = crate::numerics::svd(r.clone(), true, true).ok_or_else(|| {
+                failure(format!(
+                    "the residue of the pole {p} has no singular value decomposition (not \
+                     finite, or the iteration did not converge)"
+                ))
+            })?;
             let (u, v_t) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
             let kept: Vec<usize> = (0..n)
                 .filter(|&i| svd.singular_values[i] > RANK_TOLERANCE * largest)
@@ -196,7 +201,9 @@ fn riccati(f: &DMatrix<f64>, g: &DMatrix<f64>, q: &DMatrix<f64>) -> Option<DMatr
     let w = matrix_sign(&h)? + DMatrix::identity(2 * k, 2 * k);
     let lhs = w.columns(k, k).into_owned();
     let rhs = -w.columns(0, k).into_owned();
-    let p = lhs.svd(true, true).solve(&rhs, 1e-14).ok()?;
+    let p = crate::numerics::svd(lhs, true, true)?
+        .solve(&rhs, 1e-14)
+        .ok()?;
     Some((&p + p.transpose()) * 0.5)
 }
 

@@ -249,7 +249,10 @@ fn least_squares(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     for j in 0..a.ncols() {
         scaled.column_mut(j).unscale_mut(norms[j]);
     }
-    let svd = scaled.svd(true, true);
+    // No decomposition (non-finite or not converging): zeros, whose error the fit reports.
+    let Some(svd) = crate::numerics::svd(scaled, true, true) else {
+        return DMatrix::zeros(a.ncols(), b.ncols());
+    };
     let tol = 1e-13 * svd.singular_values.max();
     let mut x = svd
         .solve(b, tol)

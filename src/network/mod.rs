@@ -526,7 +526,7 @@ fn check_symmetric_psd(name: &str, m: &DMatrix<f64>, tolerance: f64) -> Result<(
     if n == 0 {
         return Ok(());
     }
-    let min_eigen = m.clone().symmetric_eigenvalues().min();
+    let min_eigen = crate::numerics::symmetric_eigen(m).eigenvalues.min();
     // NaN (an eigenvalue computation that overflowed) fails too.
     if min_eigen.is_nan() || min_eigen < -tolerance * scale {
         return Err(format!(

@@ -1,7 +1,8 @@
 //! Eigenvalues of a real square matrix by the real Schur decomposition (Francis QR steps) with
 //! a bounded number of iterations; where nalgebra's iteration (which has no exceptional shifts)
 //! stalls, faer's (LAPACK's with exceptional shifts) is used. A non-finite entry, or no finite
-//! result from either, gives `None` instead of an endless loop.
+//! result from either, gives `None` instead of an endless loop; a 0 x 0 matrix has no
+//! eigenvalues (nalgebra's Schur indexes out of bounds on it).
 //!
 //! The symmetric eigendecomposition `M = V diag(lambda) V^T` is checked by its residual
 //! `max |M V - V diag(lambda)| <= 1e-10 n max |M|`: nalgebra's can pair an eigenvalue with
@@ -15,18 +16,27 @@ use num_complex::Complex64;
 const SYMMETRIC_RESIDUAL: f64 = 1e-10;
 
 /// The eigendecomposition of the symmetric part of `m` (module docs): eigenvalues in no
-/// particular order, orthonormal eigenvectors as columns. A matrix with a non-finite entry gets
-/// nalgebra's result unchecked (non-finite too).
+/// particular order, orthonormal eigenvectors as columns. nalgebra's iteration is bounded
+/// ([`ITERATIONS_PER_ROW`]); where it stops or misses the residual, faer's is used. A matrix
+/// with a non-finite entry gets NaN eigenvalues and eigenvectors (no iteration).
 pub fn symmetric_eigen(m: &DMatrix<f64>) -> SymmetricEigen<f64, Dyn> {
     let n = m.nrows();
     let sym = (m + m.transpose()) * 0.5;
-    let eigen = sym.clone().symmetric_eigen();
+    if n == 0 || sym.iter().any(|x| !x.is_finite()) {
+        return SymmetricEigen {
+            eigenvalues: DVector::from_element(n, f64::NAN),
+            eigenvectors: DMatrix::from_element(n, n, f64::NAN),
+        };
+    }
+    let limit = ITERATIONS_PER_ROW * n.max(10);
     let residual = |values: &DVector<f64>, vectors: &DMatrix<f64>| {
         (&sym * vectors - vectors * DMatrix::from_diagonal(values)).amax()
     };
-    let bound = SYMMETRIC_RESIDUAL * n.max(1) as f64 * sym.amax();
-    if !bound.is_finite() || residual(&eigen.eigenvalues, &eigen.eigenvectors) <= bound {
-        return eigen;
+    let bound = SYMMETRIC_RESIDUAL * n as f64 * sym.amax();
+    if let Some(eigen) = SymmetricEigen::try_new(sym.clone(), f64::EPSILON, limit) {
+        if !bound.is_finite() || residual(&eigen.eigenvalues, &eigen.eigenvectors) <= bound {
+            return eigen;
+        }
     }
     let decomposition = faer::Mat::<f64>::from_fn(n, n, |i, j| sym[(i, j)])
         .selfadjoint_eigendecomposition(faer::Side::Lower);
@@ -45,6 +55,9 @@ const ITERATIONS_PER_ROW: usize = 100;
 pub fn eigenvalues(m: &DMatrix<f64>) -> Option<Vec<Complex64>> {
     if !m.is_square() || m.iter().any(|x| !x.is_finite()) {
         return None;
+    }
+    if m.is_empty() {
+        return Some(Vec::new());
     }
     let limit = ITERATIONS_PER_ROW * m.nrows().max(10);
     if let Some(schur) = Schur::try_new(m.clone(), f64::EPSILON, limit) {
@@ -100,5 +113,15 @@ mod tests {
     fn a_non_finite_matrix_has_no_eigenvalues() {
         let m = DMatrix::from_row_slice(2, 2, &[1.0, f64::NAN, 0.0, 1.0]);
         assert!(eigenvalues(&m).is_none());
+        let e = symmetric_eigen(&m);
+        assert!(e.eigenvalues.iter().all(|x| x.is_nan()));
+    }
+
+    #[test]
+    fn an_empty_matrix_has_no_eigenvalues_and_no_panic() {
+        // nalgebra's Schur of a 0 x 0 matrix indexed out of bounds (a fit of order 0).
+        let empty = DMatrix::<f64>::zeros(0, 0);
+        assert_eq!(eigenvalues(&empty), Some(Vec::new()));
+        assert_eq!(symmetric_eigen(&empty).eigenvalues.len(), 0);
     }
 }

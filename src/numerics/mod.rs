@@ -2,7 +2,7 @@
 //! (Levenberg-Marquardt with a typed termination reason), non-negative least squares, least
 //! squares under sampled linear matrix inequalities (ADMM), derivative-free minimization
 //! (Nelder-Mead), projection onto the positive semi-definite
-//! cone, the matrix sign function, eigenvalues with a bounded iteration, and a small deterministic random generator. Each module states its equation.
+//! cone, the matrix sign function, eigenvalues and singular values with a bounded iteration, and a small deterministic random generator. Each module states its equation.
 
 mod eigenvalues;
 mod least_squares;
@@ -12,6 +12,7 @@ mod nnls;
 mod psd;
 mod rng;
 mod sign;
+mod svd;
 
 pub use eigenvalues::{eigenvalues, symmetric_eigen};
 pub use least_squares::{levenberg_marquardt, LeastSquares};
@@ -21,6 +22,7 @@ pub use nnls::nnls;
 pub use psd::project_psd;
 pub use rng::SplitMix64;
 pub use sign::matrix_sign;
+pub use svd::svd;
 
 /// 8-point Gauss-Legendre nodes and weights on [-1, 1] (exact for polynomials of degree 15).
 pub const GAUSS_LEGENDRE_8: [(f64, f64); 8] = [

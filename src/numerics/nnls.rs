@@ -21,7 +21,8 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
         let idx: Vec<usize> = (0..n).filter(|&j| passive[j]).collect();
         let sub = DMatrix::from_fn(a.nrows(), idx.len(), |r, c| a[(r, idx[c])]);
         let mut z = DVector::zeros(n);
-        if let Ok(sol) = sub.svd(true, true).solve(b, 1e-14) {
+        let solution = crate::numerics::svd(sub, true, true).map(|svd| svd.solve(b, 1e-14));
+        if let Some(Ok(sol)) = solution {
             for (c, &j) in idx.iter().enumerate() {
                 z[j] = sol[c];
             }

@@ -108,3 +108,23 @@ fn a_negative_direct_damper_is_found_at_infinite_frequency() {
     assert!(!report.passive);
     assert!(report.min_eigenvalue < 0.0);
 }
+
+#[test]
+fn a_realization_without_states_is_checked_without_panic() {
+    // A fit of order 0 (A_inf only): nalgebra's Schur of the 0 x 0 state matrix indexed out of
+    // bounds. A positive direct damper alone is passive.
+    let empty = DMatrix::<f64>::zeros(0, 0);
+    let (b, c) = (DMatrix::zeros(0, 1), DMatrix::zeros(1, 0));
+    let d = DMatrix::from_element(1, 1, -2.0);
+    let report = check_realization(
+        &Realization {
+            a: &empty,
+            b: &b,
+            c: &c,
+            d: &d,
+        },
+        1e-9,
+    );
+    assert!(report.stable && report.passive, "{report:?}");
+    assert!(report.slowest_pole.is_none());
+}

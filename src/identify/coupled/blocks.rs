@@ -184,7 +184,9 @@ pub(super) fn commutant(target: &[DMatrix<Complex64>], threshold: f64) -> Vec<DM
         }
     }
     // At least 3 band points and r >= 2: more rows than unknowns, so V is complete.
-    let svd = map.svd(false, true);
+    let Some(svd) = crate::numerics::svd(map, false, true) else {
+        return Vec::new();
+    };
     let Some(v_t) = svd.v_t.filter(|v| v.nrows() == m) else {
         return Vec::new();
     };

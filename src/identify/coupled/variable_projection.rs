@@ -49,9 +49,9 @@ impl<'a> GroupModel<'a> {
         }
         // |(I - Q Q^T) Y|_F = |(I - Q Q^T) U S|_F: keep the significant left singular vectors.
         let data = if m > 4 {
-            let svd = y.clone().svd(true, false);
-            match svd.u {
-                Some(u) => {
+            match crate::numerics::svd(y.clone(), true, false) {
+                Some(svd) => {
+                    let u = svd.u.expect("requested");
                     let smax = svd.singular_values.amax();
                     let keep: Vec<usize> = (0..svd.singular_values.len())
                         .filter(|&i| svd.singular_values[i] > 1e-9 * smax)
@@ -87,7 +87,10 @@ impl LeastSquares for GroupModel<'_> {
             theta: x.iter().copied().collect(),
         };
         let (phi, d) = groups.basis(self.nu, jacobian.is_some());
-        let svd = phi.svd(true, true);
+        let Some(svd) = crate::numerics::svd(phi, true, true) else {
+            r.fill(f64::NAN);
+            return;
+        };
         let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
             r.fill(f64::NAN);
             return;
