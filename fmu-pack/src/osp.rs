@@ -270,14 +270,16 @@ pub fn file_name(model_name: &str) -> Option<String> {
     (!bad).then(|| format!("{model_name}_OspModelDescription.xml"))
 }
 
-/// Writes the description beside `archive` when the archive is a regular file (not a device
-/// such as standard output); returns the path written.
-pub fn write_beside(
+/// Stages the description beside `archive` in `outputs` (committed with the archive) when the
+/// archive goes to a regular file (a new one or an existing one; not a device such as
+/// standard output); returns the path it will have.
+pub fn stage_beside(
+    outputs: &mut crate::output::Outputs,
     archive: &Path,
     model_name: &str,
     text: &str,
 ) -> Result<Option<PathBuf>, String> {
-    if !std::fs::metadata(archive).is_ok_and(|m| m.is_file()) {
+    if archive.as_os_str() == "-" || std::fs::metadata(archive).is_ok_and(|m| !m.is_file()) {
         return Ok(None);
     }
     let Some(name) = file_name(model_name) else {
@@ -298,13 +300,7 @@ pub fn write_beside(
             path.display()
         ));
     }
-    std::fs::write(&path, text).map_err(|e| {
-        format!(
-            "the archive {} is written, but not the OSP model description {}: {e}",
-            archive.display(),
-            path.display()
-        )
-    })?;
+    outputs.bytes(&path, text.as_bytes())?;
     Ok(Some(path))
 }
 
@@ -451,15 +447,16 @@ mod tests {
     const SCHEMA: &str = include_str!("../../tests/data/osp/OspModelDescription-1.0.0.xsd");
 
     /// The `xs:sequence` of the schema's complex type `name`: (element, type without prefix,
-    /// minOccurs, maxOccurs) in order; `None` for a type the schema does not define.
+    /// minOccurs, maxOccurs) in order; `None` for a type the schema does not define or gives no
+    /// sequence.
     fn sequence(schema: &Element, name: &str) -> Option<Vec<(String, String, usize, usize)>> {
         let complex = schema
             .children
             .iter()
             .find(|e| e.name == "xs:complexType" && e.attribute("name") == Some(name))?;
-        let Some(sequence) = complex.descendants().find(|e| e.name == "xs:sequence") else {
-            return Some(Vec::new());
-        };
+        // No sequence of its own (attributes only, or an extension of fmi2Unit.xsd's
+        // `fmi2Unit`): its content is left to the full validation (tests/python).
+        let sequence = complex.descendants().find(|e| e.name == "xs:sequence")?;
         let occurs = |e: &Element, key: &str| match e.attribute(key) {
             Some("unbounded") => usize::MAX,
             Some(n) => n.parse().unwrap(),
@@ -552,22 +549,29 @@ mod tests {
     }
 
     #[test]
-    fn nothing_is_written_beside_a_device_or_a_missing_file() {
+    fn the_description_is_staged_beside_a_file_and_not_beside_a_device() {
         let dir = std::env::temp_dir().join(format!("fmu-pack-osp-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let archive = dir.join("X.fmu");
-        assert_eq!(write_beside(&archive, "m", "x").unwrap(), None);
+        let mut outputs = crate::output::Outputs::new();
+        for device in ["/dev/null", "-"] {
+            assert_eq!(
+                stage_beside(&mut outputs, Path::new(device), "m", "x").unwrap(),
+                None
+            );
+        }
         assert_eq!(
-            write_beside(Path::new("/dev/null"), "m", "x").unwrap(),
+            stage_beside(&mut outputs, &archive, "a/b", "x").unwrap(),
             None
         );
-        std::fs::write(&archive, b"zip").unwrap();
-        let written = write_beside(&archive, "hydrofmu X", "text")
+        let staged = stage_beside(&mut outputs, &archive, "hydrofmu X", "text")
             .unwrap()
             .unwrap();
-        assert_eq!(written, dir.join("hydrofmu X_OspModelDescription.xml"));
-        assert_eq!(std::fs::read_to_string(&written).unwrap(), "text");
-        assert_eq!(write_beside(&archive, "a/b", "x").unwrap(), None);
+        assert_eq!(staged, dir.join("hydrofmu X_OspModelDescription.xml"));
+        // Staged, not yet written: nothing there until the commit.
+        assert!(!staged.exists());
+        outputs.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&staged).unwrap(), "text");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -513,8 +513,12 @@ pub fn pack_network(
             output.display()
         ))
     })?;
-    write_zip(output, &entries)?;
-    let osp = crate::osp::write_beside(output, &model_name, &osp)?;
+    // The archive and the OSP description beside it are written together, or neither.
+    let archive = zip_archive(output, &entries)?;
+    let mut outputs = crate::output::Outputs::new();
+    outputs.bytes(output, &archive)?;
+    let osp = crate::osp::stage_beside(&mut outputs, output, &model_name, &osp)?;
+    outputs.commit()?;
     Ok(PackSummary {
         path: output.to_path_buf(),
         model_identifier: model_identifier.to_string(),
@@ -538,13 +542,17 @@ pub fn pack_network(
     })
 }
 
-/// Writes the archive. A regular file (or a new one) is written through a temporary file
-/// next to `output`, then renamed over it, so a failed write leaves no partial archive. An
-/// existing `output` that is not a regular file (a device such as `/dev/stdout`, a named
-/// pipe, or a link to one) is written directly: renaming over it would replace the device
-/// node instead of writing to it.
-fn write_zip(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), PackError> {
+/// The archive's bytes. `output` only names it in errors, and a name that standard output
+/// would take (`-`) is refused: the summary goes there.
+fn zip_archive(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<Vec<u8>, PackError> {
     use zip::write::SimpleFileOptions;
+    if output.as_os_str() == "-" {
+        return Err(PackError(
+            "-o -: an archive is written to a file, not to standard output (which carries the \
+             summary); name a file"
+                .into(),
+        ));
+    }
     let err = |e: &dyn fmt::Display| PackError(format!("writing {}: {e}", output.display()));
     let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let options = SimpleFileOptions::default()
@@ -559,50 +567,7 @@ fn write_zip(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), PackErr
             .map_err(|e| err(&e))?;
         zip.write_all(bytes).map_err(|e| err(&e))?;
     }
-    let archive = zip.finish().map_err(|e| err(&e))?.into_inner();
-    match std::fs::metadata(output) {
-        Ok(found) if found.is_dir() => Err(PackError(format!(
-            "writing {}: it is a directory",
-            output.display()
-        ))),
-        Ok(found) if !found.is_file() => {
-            let mut file = std::fs::OpenOptions::new()
-                .write(true)
-                .open(output)
-                .map_err(|e| err(&e))?;
-            file.write_all(&archive)
-                .and_then(|()| file.flush())
-                .map_err(|e| err(&e))
-        }
-        _ => write_through_temporary(output, &archive).map_err(|e| err(&e)),
-    }
-}
-
-/// Writes `bytes` to a temporary file next to `output`, syncs it, and renames it over
-/// `output`; the temporary file is removed on failure.
-fn write_through_temporary(output: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = output
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = output
-        .file_name()
-        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
-    let temporary = dir.join(format!(
-        ".{}.{}.part",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = std::fs::File::create(&temporary)
-        .and_then(|mut file| {
-            file.write_all(bytes)?;
-            file.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&temporary, output));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
+    Ok(zip.finish().map_err(|e| err(&e))?.into_inner())
 }
 
 fn matrix_table(title: &str, names: &[String], m: &nalgebra::DMatrix<f64>) -> String {

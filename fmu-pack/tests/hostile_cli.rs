@@ -569,3 +569,47 @@ fn inspect_errors_name_the_archive() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_pack_that_cannot_write_its_osp_description_leaves_the_archive_as_it_was() {
+    let dir = scratch("osp-folder");
+    let (fmu, binary) = packed_archive(&dir);
+    let description = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_string_lossy().ends_with("_OspModelDescription.xml"))
+        .expect("pack wrote an OSP description beside its archive");
+    // The description's name taken by a folder: the second write must fail.
+    std::fs::remove_file(&description).unwrap();
+    std::fs::create_dir(&description).unwrap();
+    // Bytes no pack writes, to tell whether the archive was replaced.
+    std::fs::write(&fmu, b"the earlier archive").unwrap();
+    let r = run(&[
+        "pack",
+        "semicircle",
+        "--network",
+        SEED_NETWORK,
+        "--binary",
+        binary.to_str().unwrap(),
+        "-o",
+        fmu.to_str().unwrap(),
+    ]);
+    r.assert_clean_exit(1, "pack");
+    assert!(
+        r.stderr.contains("it is a folder") && r.stderr.contains("_OspModelDescription.xml"),
+        "{}",
+        r.stderr
+    );
+    assert_eq!(
+        std::fs::read(&fmu).unwrap(),
+        b"the earlier archive",
+        "the archive was replaced"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".part"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
