@@ -364,7 +364,8 @@ fn fit_one_dof_automatic(
 
 /// Most DOFs a fit takes. Its cost grows faster than cubically with them (synthetic
 /// diagonally dominant databases, 40 frequencies, CPU time: 5 DOFs 5.6 s, 10 DOFs 19 s, 20 DOFs
-/// more than 288 s and unfinished); 12 DOFs, two rigid bodies, take about 40 s.
+/// more than 288 s and unfinished); 12 DOFs, two rigid bodies, take about 40 s by
+/// extrapolation (not measured).
 pub const MAX_FIT_DOFS: usize = 12;
 
 /// Fits a network of the given form.
