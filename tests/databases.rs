@@ -734,8 +734,9 @@ fn a_database_written_as_a_capytaine_dataset_reads_back() {
 /// would give the FMU's table a duplicated column; the reader refuses it at the first such row.
 #[test]
 fn headings_equal_modulo_360_are_refused_by_the_reader() {
-    for (beta, field) in [(360.0, " 3.600000E+02 "), (-360.0, "-3.600000E+02 ")] {
-        let path = files("headings-360", |ext, text| {
+    // The sphere's `.3` with its rows repeated at a second heading (`field`, BETA as written).
+    let with_second_heading = |tag: &str, field: &str| {
+        files(tag, |ext, text| {
             if ext != "3" {
                 return Some(text);
             }
@@ -746,7 +747,10 @@ fn headings_equal_modulo_360_are_refused_by_the_reader() {
                 .collect();
             lines.extend(repeated);
             Some(lines.join("\n") + "\n")
-        });
+        })
+    };
+    for (beta, field) in [(360.0, " 3.600000E+02 "), (-360.0, "-3.600000E+02 ")] {
+        let path = with_second_heading("headings-360", field);
         let e = import::import(&path, &params()).unwrap_err().to_string();
         assert!(
             e.contains("sphere.3:44:")
@@ -757,18 +761,7 @@ fn headings_equal_modulo_360_are_refused_by_the_reader() {
         );
     }
     // 0 and 180 are two directions: read.
-    let path = files("headings-180", |ext, text| {
-        if ext != "3" {
-            return Some(text);
-        }
-        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-        let repeated: Vec<String> = lines[1..]
-            .iter()
-            .map(|row| row.replacen(" 0.000000E+00 ", " 1.800000E+02 ", 1))
-            .collect();
-        lines.extend(repeated);
-        Some(lines.join("\n") + "\n")
-    });
+    let path = with_second_heading("headings-180", " 1.800000E+02 ");
     let db = import::import(&path, &params()).unwrap();
     assert_eq!(db.headings, vec![0.0, 180.0]);
 }

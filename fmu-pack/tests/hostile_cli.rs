@@ -103,12 +103,9 @@ fn full_device() -> Stdio {
     Stdio::from(File::options().write(true).open("/dev/full").unwrap())
 }
 
-/// A packed archive (from the seed network; the library is a stand-in file) and the stand-in.
-fn packed_archive(dir: &Path) -> (PathBuf, PathBuf) {
-    let binary = dir.join("libstandin.so");
-    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
-    let fmu = dir.join("Seed.fmu");
-    let r = run(&[
+/// `pack semicircle` of the seed network with the library `binary`, into `fmu`.
+fn pack_seed(binary: &Path, fmu: &Path) -> Run {
+    run(&[
         "pack",
         "semicircle",
         "--network",
@@ -117,8 +114,15 @@ fn packed_archive(dir: &Path) -> (PathBuf, PathBuf) {
         binary.to_str().unwrap(),
         "-o",
         fmu.to_str().unwrap(),
-    ]);
-    r.assert_clean_exit(0, "pack");
+    ])
+}
+
+/// A packed archive (from the seed network; the library is a stand-in file) and the stand-in.
+fn packed_archive(dir: &Path) -> (PathBuf, PathBuf) {
+    let binary = dir.join("libstandin.so");
+    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let fmu = dir.join("Seed.fmu");
+    pack_seed(&binary, &fmu).assert_clean_exit(0, "pack");
     (fmu, binary)
 }
 
@@ -584,16 +588,7 @@ fn a_pack_that_cannot_write_its_osp_description_leaves_the_archive_as_it_was() {
     std::fs::create_dir(&description).unwrap();
     // Bytes no pack writes, to tell whether the archive was replaced.
     std::fs::write(&fmu, b"the earlier archive").unwrap();
-    let r = run(&[
-        "pack",
-        "semicircle",
-        "--network",
-        SEED_NETWORK,
-        "--binary",
-        binary.to_str().unwrap(),
-        "-o",
-        fmu.to_str().unwrap(),
-    ]);
+    let r = pack_seed(&binary, &fmu);
     r.assert_clean_exit(1, "pack");
     assert!(
         r.stderr.contains("it is a folder") && r.stderr.contains("_OspModelDescription.xml"),
