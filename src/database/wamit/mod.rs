@@ -28,10 +28,16 @@
 //! truncated file), a `.3` row whose modulus and phase disagree with its real and imaginary
 //! parts, and every size beyond the limits below, before allocating.
 
+mod rows;
+mod writer;
+
+pub use writer::{write, WamitFiles};
+
 use super::{Database, DatabaseError};
 use crate::fmu::DofUnit;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
+use rows::Rows;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Largest file read, in bytes (256 MiB).
@@ -170,180 +176,6 @@ enum Frequency {
     Finite(f64),
 }
 
-/// The data rows of one file: fields of each row with its line number.
-struct Rows<'a> {
-    source: Source<'a>,
-    rows: Vec<(usize, Vec<&'a str>)>,
-    header: Vec<&'a str>,
-}
-
-impl<'a> Rows<'a> {
-    fn read(source: Source<'a>) -> Result<Rows<'a>, DatabaseError> {
-        if source.text.len() as u64 > MAX_FILE_BYTES {
-            return Err(DatabaseError::file(
-                source.name,
-                format!("larger than {MAX_FILE_BYTES} bytes"),
-            ));
-        }
-        let mut rows = Vec::new();
-        let mut header = Vec::new();
-        let mut header_lines = 0;
-        for (index, line) in source.text.lines().enumerate() {
-            let fields: Vec<&str> = line.split_whitespace().collect();
-            let Some(first) = fields.first() else {
-                continue;
-            };
-            if rows.is_empty() && parse_number(first).is_none() {
-                header_lines += 1;
-                header.push(line);
-                if header_lines > MAX_HEADER_LINES {
-                    return Err(DatabaseError::at(
-                        source.name,
-                        index + 1,
-                        format!("more than {MAX_HEADER_LINES} lines before the first number row"),
-                    ));
-                }
-                continue;
-            }
-            if rows.len() == MAX_ROWS {
-                return Err(DatabaseError::at(
-                    source.name,
-                    index + 1,
-                    format!("more than {MAX_ROWS} rows"),
-                ));
-            }
-            rows.push((index + 1, fields));
-        }
-        if rows.is_empty() {
-            return Err(DatabaseError::file(source.name, "no data rows".to_string()));
-        }
-        Ok(Rows {
-            source,
-            rows,
-            header,
-        })
-    }
-
-    fn error(&self, line: usize, message: String) -> DatabaseError {
-        DatabaseError::at(self.source.name, line, message)
-    }
-
-    fn number(
-        &self,
-        line: usize,
-        fields: &[&str],
-        column: usize,
-        what: &str,
-    ) -> Result<f64, DatabaseError> {
-        let token = fields[column];
-        match parse_number(token) {
-            Some(x) if x.is_finite() => Ok(x),
-            _ => Err(self.error(
-                line,
-                format!(
-                    "field {what} (column {}): '{token}' is not a finite number",
-                    column + 1
-                ),
-            )),
-        }
-    }
-
-    fn mode(
-        &self,
-        line: usize,
-        fields: &[&str],
-        column: usize,
-        what: &str,
-    ) -> Result<usize, DatabaseError> {
-        let token = fields[column];
-        match token.parse::<usize>() {
-            Ok(i) if (1..=MAX_MODE_INDEX).contains(&i) => Ok(i),
-            _ => Err(self.error(
-                line,
-                format!(
-                    "field {what} (column {}): '{token}' is not a mode index 1..{MAX_MODE_INDEX}",
-                    column + 1
-                ),
-            )),
-        }
-    }
-
-    fn columns(
-        &self,
-        line: usize,
-        fields: &[&str],
-        allowed: &[usize],
-        layout: &str,
-    ) -> Result<(), DatabaseError> {
-        if allowed.contains(&fields.len()) {
-            Ok(())
-        } else {
-            Err(self.error(
-                line,
-                format!(
-                    "{} fields where the row needs {layout} (a truncated or mixed file?)",
-                    fields.len()
-                ),
-            ))
-        }
-    }
-
-    fn frequency(
-        &self,
-        line: usize,
-        value: f64,
-        column: FrequencyColumn,
-    ) -> Result<Frequency, DatabaseError> {
-        let out = match column {
-            FrequencyColumn::Period => {
-                if value == -1.0 {
-                    Some(Frequency::Zero)
-                } else if value == 0.0 {
-                    Some(Frequency::Infinite)
-                } else if value > 0.0 {
-                    Some(Frequency::Finite(2.0 * std::f64::consts::PI / value))
-                } else {
-                    None
-                }
-            }
-            FrequencyColumn::RadPerSecond | FrequencyColumn::Hertz => {
-                let scale = if column == FrequencyColumn::Hertz {
-                    2.0 * std::f64::consts::PI
-                } else {
-                    1.0
-                };
-                if value == 0.0 {
-                    Some(Frequency::Zero)
-                } else if value == -1.0 {
-                    Some(Frequency::Infinite)
-                } else if value > 0.0 {
-                    Some(Frequency::Finite(value * scale))
-                } else {
-                    None
-                }
-            }
-        };
-        match out {
-            Some(Frequency::Finite(w)) if !(w.is_finite() && w > 0.0) => None,
-            other => other,
-        }
-        .ok_or_else(|| {
-            self.error(
-                line,
-                format!(
-                    "field PER (column 1): {value} is no frequency in a {} column (the limits are \
-                     written as -1 and 0)",
-                    match column {
-                        FrequencyColumn::Period => "period",
-                        FrequencyColumn::RadPerSecond => "rad/s",
-                        FrequencyColumn::Hertz => "Hz",
-                    }
-                ),
-            )
-        })
-    }
-}
-
 /// A number as the files write it (`1.5E+02`, `0.15E+03`, Fortran `1.5D+02`).
 fn parse_number(token: &str) -> Option<f64> {
     if token.len() > 64 {
@@ -397,110 +229,6 @@ pub fn mode_indices(names: &[String]) -> Vec<usize> {
             }
         })
         .collect()
-}
-
-/// The three files of a database in WAMIT's format, ULEN = 1 m.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WamitFiles {
-    /// `NAME.1`: the `A_inf` rows (PER = 0), then every frequency, ascending period.
-    pub radiation: String,
-    /// `NAME.3`; `None` when the database has no exciting force.
-    pub excitation: Option<String>,
-    /// `NAME.hst`.
-    pub hydrostatics: String,
-}
-
-/// Writes `database` as WAMIT files (the inverse of [`read`] with ULEN = 1 m and the
-/// database's rho and g): `Abar = A / rho`, `Bbar = B / (rho omega) = -Im A~ / rho`,
-/// `Xbar = X / (rho g)`, `Cbar = C / (rho g)`, 10 significant digits. One header line names
-/// the modes (`modes: 3=heave 5=pitch 7=vb1`), so that [`read`] gives the names back; other
-/// readers skip it (or read the files without it: WAMIT writes one with NUMHDR = 1).
-pub fn write(database: &Database) -> WamitFiles {
-    let index = mode_indices(&database.dof_names);
-    let names: Vec<String> = index
-        .iter()
-        .zip(&database.dof_names)
-        .map(|(k, name)| format!("{k}={name}"))
-        .collect();
-    let header = |what: &str| {
-        format!(
-            " hydrofmu {what} of {} (ULEN = 1 m, rho = {} kg/m^3, g = {} m/s^2; {}) modes: {}\n",
-            database.name,
-            database.rho,
-            database.g,
-            database.source,
-            names.join(" ")
-        )
-    };
-    let number = |x: f64| format!("{:.9E}", x + 0.0);
-    let n = database.dof_names.len();
-    let (rho, g) = (database.rho, database.g);
-    let mut radiation = header("added mass and damping");
-    for i in 0..n {
-        for j in 0..n {
-            radiation.push_str(&format!(
-                "{} {} {} {}\n",
-                number(0.0),
-                index[i],
-                index[j],
-                number(database.added_mass_inf[(i, j)] / rho)
-            ));
-        }
-    }
-    let order: Vec<usize> = (0..database.omega.len()).rev().collect();
-    for &k in &order {
-        let period = 2.0 * std::f64::consts::PI / database.omega[k];
-        let a = &database.added_mass[k];
-        for i in 0..n {
-            for j in 0..n {
-                radiation.push_str(&format!(
-                    "{} {} {} {} {}\n",
-                    number(period),
-                    index[i],
-                    index[j],
-                    number(a[(i, j)].re / rho),
-                    number(-a[(i, j)].im / rho)
-                ));
-            }
-        }
-    }
-    let excitation = (!database.excitation.is_empty()).then(|| {
-        let mut text = header("exciting force");
-        for &k in &order {
-            let period = 2.0 * std::f64::consts::PI / database.omega[k];
-            for (h, heading) in database.headings.iter().enumerate() {
-                for (i, mode) in index.iter().enumerate() {
-                    let x = database.excitation[k][(i, h)] / (rho * g);
-                    text.push_str(&format!(
-                        "{} {} {mode} {} {} {} {}\n",
-                        number(period),
-                        number(*heading),
-                        number(x.norm()),
-                        number(x.im.atan2(x.re).to_degrees()),
-                        number(x.re),
-                        number(x.im)
-                    ));
-                }
-            }
-        }
-        text
-    });
-    let mut hydrostatics = header("hydrostatic restoring");
-    for i in 0..n {
-        for j in 0..n {
-            hydrostatics.push_str(&format!(
-                "{} {} {}\n",
-                index[i],
-                index[j],
-                number(database.stiffness_hydrostatic[(i, j)] / (rho * g))
-            ));
-        }
-    }
-    WamitFiles {
-        radiation,
-        excitation,
-        hydrostatics,
-    }
 }
 
 /// `e_i`: 1 for the rotations 4..6, 0 for the translations and the generalized modes.

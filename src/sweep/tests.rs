@@ -1,0 +1,161 @@
+//! Tests of the frequency sweep: grids, limits, tables and their bytes.
+
+use super::*;
+
+#[test]
+fn log_grid_spans_its_bounds_and_rejects_bad_input() {
+    let grid = log_grid(0.01, 10.0, 201).unwrap();
+    assert_eq!(grid.len(), 201);
+    assert_eq!((grid[0], grid[200]), (0.01, 10.0));
+    assert!((grid[100] - 0.01f64.sqrt() * 10f64.sqrt()).abs() < 1e-12);
+    assert!(grid.windows(2).all(|w| w[1] > w[0]));
+    for (min, max, count) in [
+        (0.0, 1.0, 10),
+        (-1.0, 1.0, 10),
+        (2.0, 1.0, 10),
+        (1.0, 2.0, 0),
+    ] {
+        let err = log_grid(min, max, count).unwrap_err();
+        assert!(err.to_string().contains("kR"), "{err}");
+    }
+}
+
+#[test]
+fn the_excitation_table_has_every_frequency_heading_and_dof() {
+    let hull = Hull::semicircle(2.0).unwrap();
+    let params = SweepParams {
+        kr: vec![0.5, 1.5],
+        panels: PanelParams {
+            body_panels: 32,
+            ..PanelParams::default()
+        },
+        ..SweepParams::default()
+    };
+    let result = run(&hull, &params, &|_, _| {}).unwrap();
+    let mut text = Vec::new();
+    result
+        .write_excitation_csv(&mut text, ExcitationPart::Total)
+        .unwrap();
+    let text = String::from_utf8(text).unwrap();
+    assert!(text.contains("# modes: sway heave roll cb1 cb2 cb3 cb4 cb5 cb6\n"));
+    assert!(text.contains("# R: 2 m\n"));
+    assert!(text.contains("# length exponents: 0 0 1 0 0 1 0 0 1\n"));
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip_while(|l| *l != "kR,j,heading,re,im")
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    // (the kR = 0 limit + 2 frequencies) x 2 headings x 9 DOFs.
+    assert_eq!(rows.len(), 3 * 2 * 9);
+    // Heave's long-wave limit: integral n_y ds / R^(1 + 0) = 2R / R = 2.
+    let heave_limit: f64 = rows[1][3].parse().unwrap();
+    assert!((heave_limit - 2.0).abs() < 1e-12);
+    assert_eq!(rows[9][2], "180");
+    // A frequency row reads back as the direct value over R^(1 + e_j) (roll: R^2).
+    let row = &rows[2 * 9 + 1];
+    assert_eq!((row[0], row[1], row[2]), ("5e-1", "2", "0"));
+    let stored = result.excitation[0].direct[(1, 0)];
+    assert_eq!(row[3].parse::<f64>().unwrap(), stored.re);
+    assert_eq!(row[4].parse::<f64>().unwrap(), stored.im);
+    // The wave model reads it back: same modes, radius, exponents and values.
+    let table = crate::waves::ExcitationTable::from_csv_str(&text, "table").unwrap();
+    assert_eq!(table.modes(), result.dof_names.as_slice());
+    assert_eq!(table.radius(), 2.0);
+    assert_eq!(table.length_exponents(), [0, 0, 1, 0, 0, 1, 0, 0, 1]);
+    assert!(table.has_long_wave_rows());
+    let heading = table.heading_index(180.0).unwrap();
+    assert_eq!(
+        table.value(5, heading, 2),
+        Some(result.excitation[1].direct[(5, 1)])
+    );
+    // A selection keeps its DOFs' rows, in the order asked for.
+    let picked = result.select_dofs(&["heave", "sway"]).unwrap();
+    assert_eq!(picked.dof_names, ["heave", "sway"]);
+    assert_eq!(
+        picked.excitation[1].direct[(0, 1)],
+        result.excitation[1].direct[(1, 1)]
+    );
+    assert_eq!(picked.added_mass[0][(0, 1)], result.added_mass[0][(1, 0)]);
+    assert_eq!(
+        picked.excitation_long_wave[0],
+        result.excitation_long_wave[1]
+    );
+    assert_eq!(
+        picked.excitation_long_wave[1],
+        result.excitation_long_wave[0]
+    );
+    assert!(result.select_dofs(&["pitch"]).is_none());
+    // The Froude-Krylov table is a different force in the same layout.
+    let mut fk = Vec::new();
+    result
+        .write_excitation_csv(&mut fk, ExcitationPart::FroudeKrylov)
+        .unwrap();
+    let fk = String::from_utf8(fk).unwrap();
+    assert_eq!(fk.lines().count(), text.lines().count() - 1);
+    assert!(fk.contains("Froude-Krylov part"));
+}
+
+#[test]
+fn normalized_difference_scales_by_the_diagonal_and_skips_empty_dofs() {
+    let c = |re: f64| Complex64::new(re, 0.0);
+    let reference = vec![DMatrix::from_row_slice(
+        3,
+        3,
+        &[
+            c(4.0),
+            c(1.0),
+            c(0.0),
+            c(1.0),
+            c(1.0),
+            c(0.0),
+            c(0.0),
+            c(0.0),
+            c(0.0),
+        ],
+    )];
+    let mut perturbed = reference.clone();
+    perturbed[0][(0, 1)] += c(0.02); // 0.02 / sqrt(4 * 1) = 0.01
+    perturbed[0][(2, 2)] += c(1.0); // DOF 2 has no added mass: skipped
+    let (error, k, entry) = max_normalized_difference(&perturbed, &reference);
+    assert!((error - 0.01).abs() < 1e-15);
+    assert_eq!((k, entry), (0, (0, 1)));
+}
+
+#[test]
+fn one_failed_frequency_is_reported_and_the_others_survive() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let kr = [0.1, 0.2, 0.3, 0.4];
+    let calls = AtomicUsize::new(0);
+    let solve_at = |k: f64| {
+        if k == 0.3 {
+            Err(BemError::Singular {
+                surface: FreeSurface::Wave { wavenumber: k },
+                body_panels: 4,
+                lid_panels: 0,
+            })
+        } else {
+            Ok(RadiationSolution {
+                added_mass: DMatrix::from_element(1, 1, Complex64::new(k, 0.0)),
+                reciprocity_residual: 0.0,
+                influence_time: Duration::ZERO,
+                assembly_time: Duration::ZERO,
+                factorization_time: Duration::ZERO,
+                wave_forces: None,
+            })
+        }
+    };
+    let progress = |_: usize, total: usize| {
+        calls.fetch_add(1, Ordering::Relaxed);
+        assert_eq!(total, 4);
+    };
+    let solutions = solve_all(&pool, &kr, &solve_at, &progress);
+    assert_eq!(calls.load(Ordering::Relaxed), 4);
+    let kept: Vec<f64> = solutions.iter().map(|(k, _)| *k).collect();
+    assert_eq!(kept, kr);
+    assert!(solutions[2].1.is_err());
+    assert!(solutions.iter().filter(|(_, s)| s.is_ok()).count() == 3);
+}
