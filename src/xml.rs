@@ -215,13 +215,42 @@ impl<'a> Iterator for Descendants<'a> {
     }
 }
 
+/// Why a text is no finite number ([`parse_number`]); its text completes "`x` ...".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NumberError {
+    /// Not a number at all: "is not a number".
+    NotANumber,
+    /// A number, but infinite or NaN: "is not a finite number".
+    NotFinite,
+}
+
+impl fmt::Display for NumberError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            NumberError::NotANumber => "is not a number",
+            NumberError::NotFinite => "is not a finite number",
+        })
+    }
+}
+
+impl std::error::Error for NumberError {}
+
+impl From<NumberError> for String {
+    fn from(error: NumberError) -> String {
+        error.to_string()
+    }
+}
+
 /// A finite number (surrounding whitespace allowed); the error completes "`x` ...": "is not a
 /// number" or "is not a finite number".
-pub fn parse_number(text: &str) -> Result<f64, String> {
+///
+/// # Errors
+/// [`NumberError`]: no number, or not a finite one.
+pub fn parse_number(text: &str) -> Result<f64, NumberError> {
     match text.trim().parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err("is not a finite number".into()),
-        Err(_) => Err("is not a number".into()),
+        Ok(_) => Err(NumberError::NotFinite),
+        Err(_) => Err(NumberError::NotANumber),
     }
 }
 
@@ -244,8 +273,34 @@ pub fn escape(text: &str) -> String {
 
 /// Inverse of [`escape`], also reading character references; any other entity, an `&` without
 /// `;`, or a reference to a character XML does not allow is an error.
-pub fn unescape(raw: &str) -> Result<String, String> {
-    unescape_at(raw).map_err(|(_, why)| why)
+///
+/// # Errors
+/// [`UnescapeError`], naming the bad `&` and its byte offset.
+pub fn unescape(raw: &str) -> Result<String, UnescapeError> {
+    unescape_at(raw).map_err(|(offset, message)| UnescapeError { offset, message })
+}
+
+/// A text [`unescape`] refuses: where its bad `&` is, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnescapeError {
+    /// Byte offset of the bad `&`.
+    pub offset: usize,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+impl fmt::Display for UnescapeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for UnescapeError {}
+
+impl From<UnescapeError> for String {
+    fn from(error: UnescapeError) -> String {
+        error.message
+    }
 }
 
 /// [`unescape`], with the byte offset of a bad `&` in the error.

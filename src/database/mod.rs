@@ -80,46 +80,7 @@ pub struct Database {
 pub const MAX_HEADINGS: usize = crate::waves::MAX_HEADINGS;
 
 /// An imported file that cannot be used: which file, which line (when one), and why.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct DatabaseError {
-    /// The file as the user named it.
-    pub file: String,
-    /// 1-based line, when the problem has one.
-    pub line: Option<usize>,
-    /// What is wrong, naming the field.
-    pub message: String,
-}
-
-impl DatabaseError {
-    /// A problem of the whole file.
-    pub fn file(file: &str, message: String) -> DatabaseError {
-        DatabaseError {
-            file: file.to_string(),
-            line: None,
-            message,
-        }
-    }
-
-    /// A problem at a line.
-    pub fn at(file: &str, line: usize, message: String) -> DatabaseError {
-        DatabaseError {
-            file: file.to_string(),
-            line: Some(line),
-            message,
-        }
-    }
-}
-
-impl std::fmt::Display for DatabaseError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "{}:{line}: {}", self.file, self.message),
-            None => write!(f, "{}: {}", self.file, self.message),
-        }
-    }
-}
-
-impl std::error::Error for DatabaseError {}
+pub type DatabaseError = crate::input::FileError;
 
 /// Keeps the entries of `v` whose flag in `keep` is true (`v` and `keep` of one length; a
 /// `v` of another length, an absent table, is left as it is).

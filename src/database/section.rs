@@ -15,10 +15,72 @@
 use super::Database;
 use crate::bem::HEADINGS;
 use crate::hull::{DofKind, Hull, RigidKind};
+use crate::hydrostatics::HydrostaticsError;
 use crate::identify::FrequencyResponse;
 use crate::sweep::SweepResult;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
+use std::fmt;
+
+/// Why a section cannot be exported as a whole-body [`Database`].
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum SectionError {
+    /// The sweep is of other DOFs than the hull's.
+    OtherDofs {
+        /// The sweep's DOFs.
+        sweep: Vec<String>,
+        /// The hull's DOFs.
+        hull: Vec<String>,
+    },
+    /// An elastic DOF named after a WAMIT rigid mode (`surge` .. `yaw`).
+    RigidName(String),
+    /// Two DOFs that would be one WAMIT rigid mode.
+    SameMode(String),
+    /// The restoring could not be computed.
+    Restoring(HydrostaticsError),
+    /// A table that is not finite in SI (named).
+    NonFinite(&'static str),
+}
+
+impl fmt::Display for SectionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SectionError::OtherDofs { sweep, hull } => write!(
+                f,
+                "the sweep's DOFs ({}) are not the hull's ({})",
+                sweep.join(" "),
+                hull.join(" ")
+            ),
+            SectionError::RigidName(own) => write!(
+                f,
+                "DOF '{own}' is not a rigid motion but has the name of a WAMIT rigid \
+                 mode; rename it in the hull file to export the section"
+            ),
+            SectionError::SameMode(name) => write!(
+                f,
+                "two DOFs of the section are both WAMIT's '{name}'; keep one with --dofs"
+            ),
+            SectionError::Restoring(e) => write!(f, "{e}"),
+            SectionError::NonFinite(what) => write!(f, "{what} of the section is not finite in SI"),
+        }
+    }
+}
+
+impl std::error::Error for SectionError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SectionError::Restoring(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<SectionError> for String {
+    fn from(error: SectionError) -> String {
+        error.to_string()
+    }
+}
 
 /// The 3D wave direction (degrees) of our section heading `heading`: `90 - heading`.
 pub fn wave_direction(heading: f64) -> f64 {
@@ -51,7 +113,7 @@ pub struct WamitNames {
 /// # Errors
 /// Two DOFs that would be one WAMIT rigid mode, or an elastic DOF named after a rigid mode
 /// (`surge` .. `yaw`).
-pub fn wamit_names(hull: &Hull) -> Result<WamitNames, String> {
+pub fn wamit_names(hull: &Hull) -> Result<WamitNames, SectionError> {
     let mut names = Vec::with_capacity(hull.dof_count());
     let mut notes = Vec::new();
     let mut roll_centre = None;
@@ -71,17 +133,12 @@ pub fn wamit_names(hull: &Hull) -> Result<WamitNames, String> {
                 name.to_string()
             }
             _ if super::wamit::RIGID_MODES.contains(own) => {
-                return Err(format!(
-                    "DOF '{own}' is not a rigid motion but has the name of a WAMIT rigid \
-                     mode; rename it in the hull file to export the section"
-                ))
+                return Err(SectionError::RigidName(own.to_string()))
             }
             _ => own.to_string(),
         };
         if names.contains(&name) {
-            return Err(format!(
-                "two DOFs of the section are both WAMIT's '{name}'; keep one with --dofs"
-            ));
+            return Err(SectionError::SameMode(name));
         }
         names.push(name);
     }
@@ -107,13 +164,12 @@ impl SectionDatabase {
         sweep: &SweepResult,
         rho: f64,
         g: f64,
-    ) -> Result<SectionDatabase, String> {
+    ) -> Result<SectionDatabase, SectionError> {
         if hull.dof_names() != sweep.dof_names {
-            return Err(format!(
-                "the sweep's DOFs ({}) are not the hull's ({})",
-                sweep.dof_names.join(" "),
-                hull.dof_names().join(" ")
-            ));
+            return Err(SectionError::OtherDofs {
+                sweep: sweep.dof_names.clone(),
+                hull: hull.dof_names().iter().map(|d| d.to_string()).collect(),
+            });
         }
         let WamitNames {
             names,
@@ -140,7 +196,7 @@ impl SectionDatabase {
                 x[(j, columns[c].1)] * force_scale[j]
             })
         };
-        let restoring = crate::hydrostatics::stiffness(hull).map_err(|e| e.to_string())?;
+        let restoring = crate::hydrostatics::stiffness(hull).map_err(SectionError::Restoring)?;
         let mut units = hull.dof_units();
         for (unit, name) in units.iter_mut().zip(&names) {
             unit.name.clone_from(name);
@@ -185,7 +241,7 @@ impl SectionDatabase {
         let gaps = super::import::symmetrize(&mut database);
         database.noise = super::import::largest_gap(&gaps, database.dof_names.len());
         if let Some(what) = database.first_non_finite() {
-            return Err(format!("{what} of the section is not finite in SI"));
+            return Err(SectionError::NonFinite(what));
         }
         Ok(SectionDatabase {
             database,
@@ -231,7 +287,11 @@ impl SectionDatabase {
         if let Some([x, y]) = self.roll_centre {
             attributes.push(("rotation_center", Attribute::Numbers(vec![0.0, x, y])));
         }
-        super::capytaine::write_with(&self.database, path, &attributes)
+        Ok(super::capytaine::write_with(
+            &self.database,
+            path,
+            &attributes,
+        )?)
     }
 }
 
@@ -278,9 +338,13 @@ mod tests {
         );
         let elastic = format!(r#"<mode name="pitch">{MODE}</mode>"#);
         let e = wamit_names(&hull(&elastic)).unwrap_err();
-        assert!(e.contains("DOF 'pitch' is not a rigid motion"), "{e}");
+        assert_eq!(e, SectionError::RigidName("pitch".to_string()));
+        assert!(
+            e.to_string().contains("DOF 'pitch' is not a rigid motion"),
+            "{e}"
+        );
         let twice = r#"<rigid name="a" kind="heave"/><rigid name="b" kind="heave"/>"#;
         let e = wamit_names(&hull(twice)).unwrap_err();
-        assert!(e.contains("both WAMIT's 'heave'"), "{e}");
+        assert!(e.to_string().contains("both WAMIT's 'heave'"), "{e}");
     }
 }

@@ -72,7 +72,8 @@ impl Hull {
     pub fn lewis(breadth: f64, draft: f64, area_coefficient: f64) -> Result<Hull, HullError> {
         let source = "built-in Lewis form";
         let error = |m: String| HullError::new(source, None, m);
-        let form = super::lewis::LewisForm::new(breadth, draft, area_coefficient).map_err(error)?;
+        let form = super::lewis::LewisForm::new(breadth, draft, area_coefficient)
+            .map_err(|e| error(e.to_string()))?;
         check_length("breadth", breadth).map_err(error)?;
         check_length("draft", draft).map_err(error)?;
         super::check_half_beam_ratio(breadth / 2.0, breadth.max(draft)).map_err(error)?;

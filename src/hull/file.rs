@@ -18,9 +18,8 @@ impl Hull {
     /// Reads a hull file (format: `docs/HULL_FORMAT.md`).
     pub fn from_file(path: &Path) -> Result<Hull, HullError> {
         let source = path.display().to_string();
-        let text =
-            crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
-                .map_err(|m| HullError::new(&source, None, m))?;
+        let text = crate::input::read_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
+            .map_err(|cause| HullError::unreadable(&source, cause))?;
         Hull::from_xml_str(&text, &source)
     }
 
@@ -331,7 +330,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                 check_length("breadth", breadth).map_err(|m| err(line, m))?;
                 check_length("draft", draft).map_err(|m| err(line, m))?;
                 let form = super::lewis::LewisForm::new(breadth, draft, sigma)
-                    .map_err(|m| err(line, m))?;
+                    .map_err(|e| err(line, e.to_string()))?;
                 geometry = Some(Geometry::Lewis { form, line });
             }
             "rigid" | "craig_bampton" | "mode" => {

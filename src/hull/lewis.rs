@@ -24,6 +24,63 @@
 use super::contact::first_contact;
 use super::Point;
 use std::f64::consts::PI;
+use std::fmt;
+
+/// Why [`LewisForm::new`] refuses its data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LewisError {
+    /// `breadth` or `draft` not positive and finite.
+    NotPositive {
+        /// `breadth` or `draft`.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// An area coefficient outside (0, 1].
+    AreaCoefficient(f64),
+    /// No valid form has these data (it would loop or leave the water).
+    NoForm {
+        /// B, m.
+        breadth: f64,
+        /// T, m.
+        draft: f64,
+        /// sigma.
+        area_coefficient: f64,
+    },
+}
+
+impl fmt::Display for LewisError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LewisError::NotPositive { what, value } => write!(
+                f,
+                "Lewis form: {what} must be positive and finite, got {value}"
+            ),
+            LewisError::AreaCoefficient(value) => write!(
+                f,
+                "Lewis form: area_coefficient must be in (0, 1], got {value}"
+            ),
+            LewisError::NoForm {
+                breadth,
+                draft,
+                area_coefficient,
+            } => write!(
+                f,
+                "Lewis form: no form has B = {breadth} m, T = {draft} m and area coefficient \
+                 {area_coefficient} (the mapped curve would loop or leave the water); use a \
+                 hull file with the contour's points"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for LewisError {}
+
+impl From<LewisError> for String {
+    fn from(error: LewisError) -> String {
+        error.to_string()
+    }
+}
 
 /// Intervals of the arc-length table.
 const TABLE_INTERVALS: usize = 1024;
@@ -49,29 +106,23 @@ impl LewisForm {
     /// Non-positive or non-finite data, `sigma` above 1 or at most 0, a form that does not
     /// exist (`9 - 2 C1 < 0`) or whose curve loops or leaves the water (it must run strictly
     /// below y = 0 between the waterline points, left to right, without crossing itself).
-    pub fn new(breadth: f64, draft: f64, area_coefficient: f64) -> Result<Self, String> {
+    pub fn new(breadth: f64, draft: f64, area_coefficient: f64) -> Result<Self, LewisError> {
         for (what, value) in [("breadth", breadth), ("draft", draft)] {
             if !(value.is_finite() && value > 0.0) {
-                return Err(format!(
-                    "Lewis form: {what} must be positive and finite, got {value}"
-                ));
+                return Err(LewisError::NotPositive { what, value });
             }
         }
         if !(area_coefficient.is_finite() && area_coefficient > 0.0 && area_coefficient <= 1.0) {
-            return Err(format!(
-                "Lewis form: area_coefficient must be in (0, 1], got {area_coefficient}"
-            ));
+            return Err(LewisError::AreaCoefficient(area_coefficient));
         }
         let h = breadth / (2.0 * draft);
         let ratio = ((h - 1.0) / (h + 1.0)).powi(2);
         let c1 = (3.0 + 4.0 * area_coefficient / PI) + (1.0 - 4.0 * area_coefficient / PI) * ratio;
         let discriminant = 9.0 - 2.0 * c1;
-        let no_form = || {
-            format!(
-                "Lewis form: no form has B = {breadth} m, T = {draft} m and area coefficient \
-                 {area_coefficient} (the mapped curve would loop or leave the water); use a \
-                 hull file with the contour's points"
-            )
+        let no_form = || LewisError::NoForm {
+            breadth,
+            draft,
+            area_coefficient,
         };
         if discriminant < 0.0 {
             return Err(no_form());
@@ -269,7 +320,7 @@ mod tests {
             (10.0, 5.0, 1.2),
             (f64::NAN, 1.0, 0.9),
         ] {
-            let e = LewisForm::new(b, t, sigma).unwrap_err();
+            let e = LewisForm::new(b, t, sigma).unwrap_err().to_string();
             assert!(e.starts_with("Lewis form:"), "{e}");
         }
     }

@@ -57,7 +57,6 @@ pub use craig_bampton::{
 };
 
 use std::f64::consts::PI;
-use std::fmt;
 
 /// A point or vector in the section plane, `[x, y]` in metres.
 pub type Point = [f64; 2];
@@ -134,49 +133,7 @@ fn check_half_beam_ratio(half_beam: f64, size: f64) -> Result<(), String> {
 
 /// Why a hull could not be built: the source (file name, or built-in / hull name), the line
 /// when it came from a file, and the problem.
-#[derive(Clone, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub struct HullError {
-    source: String,
-    line: Option<usize>,
-    message: String,
-}
-
-impl HullError {
-    fn new(source: &str, line: Option<usize>, message: impl Into<String>) -> Self {
-        HullError {
-            source: source.to_string(),
-            line,
-            message: message.into(),
-        }
-    }
-
-    /// The file name (or `built-in semicircle`, `built-in circle`, a hull's name).
-    pub fn source_name(&self) -> &str {
-        &self.source
-    }
-
-    /// 1-based line in the file, when the error refers to one.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-
-    /// The problem, without the location.
-    pub fn message(&self) -> &str {
-        &self.message
-    }
-}
-
-impl fmt::Display for HullError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "{}:{}: {}", self.source, line, self.message),
-            None => write!(f, "{}: {}", self.source, self.message),
-        }
-    }
-}
-
-impl std::error::Error for HullError {}
+pub type HullError = crate::input::FileError;
 
 /// The three rigid motions of a 2D section.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

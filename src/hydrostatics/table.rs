@@ -9,6 +9,7 @@
 //! Read by a strict, bounded parser: at most [`crate::hull::MAX_DOFS`] modes, checked
 //! before the matrix is allocated.
 
+use crate::input::FileError;
 use nalgebra::DMatrix;
 
 /// A parsed restoring table.
@@ -46,13 +47,13 @@ impl Table {
     /// # Errors
     /// A missing `# modes:` line or column header, more than [`crate::hull::MAX_DOFS`]
     /// modes, a malformed or non-finite row, an index out of range, a repeated or missing
-    /// entry.
-    pub fn from_csv_str(text: &str, source: &str) -> Result<Table, String> {
+    /// entry: a [`FileError`] naming `source` and the line.
+    pub fn from_csv_str(text: &str, source: &str) -> Result<Table, FileError> {
         let mut modes: Option<Vec<String>> = None;
         let mut matrix: Option<DMatrix<f64>> = None;
         let mut seen: Vec<bool> = Vec::new();
         for (k, line) in text.lines().enumerate() {
-            let at = |m: String| format!("{source}:{}: {m}", k + 1);
+            let at = |m: String| FileError::at(source, k + 1, m);
             let line = line.trim();
             if line.is_empty() {
                 continue;
@@ -106,16 +107,16 @@ impl Table {
             m[(i, j)] = value;
         }
         let (Some(modes), Some(matrix)) = (modes, matrix) else {
-            return Err(format!(
-                "{source}: no '# modes:' line or no 'i,j,value' header"
+            return Err(FileError::file(
+                source,
+                "no '# modes:' line or no 'i,j,value' header".to_string(),
             ));
         };
         if let Some(k) = seen.iter().position(|s| !s) {
             let n = modes.len();
-            return Err(format!(
-                "{source}: entry {},{} is missing",
-                k / n + 1,
-                k % n + 1
+            return Err(FileError::file(
+                source,
+                format!("entry {},{} is missing", k / n + 1, k % n + 1),
             ));
         }
         Ok(Table {
@@ -138,20 +139,22 @@ mod tests {
         let text = table.to_csv("barge", "whole body");
         assert_eq!(Table::from_csv_str(&text, "c.csv").unwrap(), table);
         let missing: String = text.lines().take(7).map(|l| format!("{l}\n")).collect();
-        assert!(Table::from_csv_str(&missing, "c.csv")
-            .unwrap_err()
-            .contains("entry 2,2 is missing"));
+        let e = Table::from_csv_str(&missing, "c.csv").unwrap_err();
+        assert_eq!((e.line, e.message.as_str()), (None, "entry 2,2 is missing"));
         let twice = format!("{text}1,1,3\n");
         assert!(Table::from_csv_str(&twice, "c.csv")
             .unwrap_err()
+            .to_string()
             .starts_with("c.csv:9: entry 1,1 is given twice"));
         let nan = text.replace("1,1,1e3", "1,1,NaN");
         assert!(Table::from_csv_str(&nan, "c.csv")
             .unwrap_err()
+            .message
             .contains("field value"));
         let huge = format!("# modes: {}\n", "a ".repeat(300));
         assert!(Table::from_csv_str(&huge, "c.csv")
             .unwrap_err()
+            .message
             .contains("300 modes"));
     }
 }

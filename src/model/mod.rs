@@ -350,8 +350,8 @@ impl Model {
         }
         if let Some(text) = &resources.hydrostatics_csv {
             let source = format!("resources/{}", Resources::HYDROSTATICS_FILE);
-            let table =
-                hydrostatics::Table::from_csv_str(text, &source).map_err(ModelError::Waves)?;
+            let table = hydrostatics::Table::from_csv_str(text, &source)
+                .map_err(|e| ModelError::Waves(e.to_string()))?;
             if table.modes != names {
                 return Err(ModelError::Waves(format!(
                     "{source}: modes {} differ from the network's DOFs {}",

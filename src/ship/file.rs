@@ -14,7 +14,7 @@ impl Ship {
     /// An unreadable or malformed file, or a ship that fails [`Ship::new`]'s checks.
     pub fn from_file(path: &Path) -> Result<Ship, ShipError> {
         let source = path.display().to_string();
-        let text = read_bounded(path).map_err(|m| ShipError::new(&source, None, m))?;
+        let text = read_bounded(path).map_err(|cause| ShipError::unreadable(&source, cause))?;
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Ship::from_xml_str(&text, &source, &folder)
     }
@@ -90,8 +90,8 @@ fn distinct(hull: Hull, sections: &mut Vec<Hull>, fingerprints: &mut Vec<String>
 }
 
 /// The text of a ship, section or offset file, within [`xml::MAX_INPUT_BYTES`].
-fn read_bounded(path: &Path) -> Result<String, String> {
-    crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
+fn read_bounded(path: &Path) -> Result<String, crate::input::ReadError> {
+    crate::input::read_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
 }
 
 fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError> {

@@ -48,7 +48,6 @@ pub mod strip;
 pub use strip::ShipSweepParams;
 
 use crate::hull::Hull;
-use std::fmt;
 
 /// Most stations of a ship: each may be its own section, swept over every frequency.
 pub const MAX_STATIONS: usize = 1000;
@@ -59,49 +58,9 @@ pub const MAX_ELASTIC_MODES: usize = crate::hull::MAX_DOFS - RIGID_DOFS.len();
 /// The rigid DOFs of a ship, in order (surge is left out, see the module docs).
 pub const RIGID_DOFS: [&str; 5] = ["sway", "heave", "roll", "pitch", "yaw"];
 
-/// An error in a ship description, with the file, line and problem.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ShipError {
-    source: String,
-    line: Option<usize>,
-    message: String,
-}
-
-impl ShipError {
-    pub(crate) fn new(source: &str, line: Option<usize>, message: impl Into<String>) -> Self {
-        Self {
-            source: source.to_string(),
-            line,
-            message: message.into(),
-        }
-    }
-
-    /// The file (or description) the error is in.
-    pub fn source_name(&self) -> &str {
-        &self.source
-    }
-
-    /// The line, when known.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-
-    /// The problem.
-    pub fn message(&self) -> &str {
-        &self.message
-    }
-}
-
-impl fmt::Display for ShipError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "{}:{}: {}", self.source, line, self.message),
-            None => write!(f, "{}: {}", self.source, self.message),
-        }
-    }
-}
-
-impl std::error::Error for ShipError {}
+/// Why a ship could not be built: the file (or description), the line when known, and the
+/// problem.
+pub type ShipError = crate::input::FileError;
 
 /// A section's motion at one station for one ship DOF.
 #[derive(Clone, Debug, PartialEq)]

@@ -61,7 +61,7 @@ mod header;
 mod variables;
 mod writer;
 
-pub use writer::{write, write_with, Attribute};
+pub use writer::{write, write_with, Attribute, WriteError};
 
 use super::wamit::{self, FrequencyColumn, WamitParams};
 use super::{Database, DatabaseError};

@@ -2,6 +2,53 @@
 
 use super::super::wamit;
 use super::Database;
+use std::fmt;
+
+/// Why [`write_with`] could not write the dataset; its text names the file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum WriteError {
+    /// The file system refused the file.
+    Io {
+        /// The file.
+        path: String,
+        /// The error's kind.
+        kind: std::io::ErrorKind,
+    },
+    /// The NetCDF writer refused the data or its definition.
+    NetCdf {
+        /// The file.
+        path: String,
+        /// The writer's words.
+        message: String,
+        /// Whether the definition (dimensions, variables, attributes) was refused.
+        definition: bool,
+    },
+}
+
+impl fmt::Display for WriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WriteError::Io { path, kind } => {
+                write!(f, "cannot write {path}: {}", std::io::Error::from(*kind))
+            }
+            WriteError::NetCdf {
+                path,
+                message,
+                definition: false,
+            } => write!(f, "cannot write {path}: {message}"),
+            WriteError::NetCdf { path, message, .. } => write!(f, "{path}: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for WriteError {}
+
+impl From<WriteError> for String {
+    fn from(error: WriteError) -> String {
+        error.to_string()
+    }
+}
 
 /// Capytaine's DOF name of ours: `Surge` .. `Yaw` for the rigid modes, others unchanged.
 fn capytaine_name(name: &str) -> String {
@@ -16,7 +63,7 @@ fn capytaine_name(name: &str) -> String {
     }
 }
 
-/// Writes `database` at `path` as a Capytaine dataset in NetCDF-3 (the inverse of [`read`]):
+/// Writes `database` at `path` as a Capytaine dataset in NetCDF-3 (the inverse of [`super::read`]):
 /// the variables, dimensions and conventions of the module docs, as
 /// `separate_complex_values(dataset).to_netcdf(path, engine="scipy")` writes them, so that
 /// `xarray.open_dataset` and `capytaine.io.xarray.merge_complex_values` read it:
@@ -29,7 +76,7 @@ fn capytaine_name(name: &str) -> String {
 /// # Errors
 /// The file cannot be written (the message names it).
 pub fn write(database: &Database, path: &std::path::Path) -> Result<(), String> {
-    write_with(database, path, &[])
+    Ok(write_with(database, path, &[])?)
 }
 
 /// The value of a global attribute of [`write_with`].
@@ -44,22 +91,29 @@ pub enum Attribute {
 /// As [`write()`], with more global attributes.
 ///
 /// # Errors
-/// The file cannot be written (the message names it).
+/// [`WriteError`]: the file cannot be written (its text names the file).
 pub fn write_with(
     database: &Database,
     path: &std::path::Path,
     attributes: &[(&str, Attribute)],
-) -> Result<(), String> {
+) -> Result<(), WriteError> {
     use netcdf3::{DataSet, FileWriter, Version};
     let fail = |e: netcdf3::error::WriteError| match e {
-        netcdf3::error::WriteError::IOErrorKind(kind) => format!(
-            "cannot write {}: {}",
-            path.display(),
-            std::io::Error::from(kind)
-        ),
-        other => format!("cannot write {}: {other:?}", path.display()),
+        netcdf3::error::WriteError::IOErrorKind(kind) => WriteError::Io {
+            path: path.display().to_string(),
+            kind,
+        },
+        other => WriteError::NetCdf {
+            path: path.display().to_string(),
+            message: format!("{other:?}"),
+            definition: false,
+        },
     };
-    let define = |e: netcdf3::error::InvalidDataSet| format!("{}: {e:?}", path.display());
+    let define = |e: netcdf3::error::InvalidDataSet| WriteError::NetCdf {
+        path: path.display().to_string(),
+        message: format!("{e:?}"),
+        definition: true,
+    };
     let n = database.dof_names.len();
     let count = database.omega.len() + 1;
     let headings = database.headings.len();
