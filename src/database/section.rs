@@ -11,13 +11,22 @@
 //!
 //! Waves: our heading `h` (0: towards +x, 180: towards -x) is the 3D direction
 //! `beta = 90 - h` (90 and -90 degrees, beam seas), phase referred to the crest at x = 0.
+//!
+//! One currency: the [`Database`] carries what a ship's or an import's does (DOF names and
+//! units, added mass, `A_inf`, exciting force and its Froude-Krylov part, the long-wave limit,
+//! restoring, failures, warnings, notes), every value per unit length, as its
+//! [`Database::source`] says. The section's nondimensional tables (DESIGN.md: `kR = omega^2 R /
+//! g`, `A~ / (rho pi R^2)`, `X_j / (rho g a R^(1 + e_j))`) are exports of it
+//! ([`SectionDatabase::write_table`], [`SectionDatabase::write_excitation_table`]), written from
+//! the nondimensional sweep it keeps: the SI values are symmetrized and scaled, and dividing
+//! them again would not give the same bytes.
 
 use super::Database;
 use crate::bem::HEADINGS;
 use crate::hull::{DofKind, Hull, RigidKind};
 use crate::hydrostatics::HydrostaticsError;
 use crate::identify::FrequencyResponse;
-use crate::sweep::SweepResult;
+use crate::sweep::{ExcitationPart, SweepResult};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use std::fmt;
@@ -95,6 +104,9 @@ pub struct SectionDatabase {
     pub database: Database,
     /// The roll DOF's reference point (our x, y), m, when the section has one.
     pub roll_centre: Option<[f64; 2]>,
+    /// The nondimensional sweep the database was made from (its `R`, [`SweepResult::kr`],
+    /// `A~ / (rho pi R^2)`, ...), for the nondimensional tables.
+    pub sweep: SweepResult,
 }
 
 /// The exported names of a section's DOFs, what renaming them noted, and the roll centre.
@@ -246,7 +258,36 @@ impl SectionDatabase {
         Ok(SectionDatabase {
             database,
             roll_centre,
+            sweep: sweep.clone(),
         })
+    }
+
+    /// The reference half-beam `R` of the nondimensional tables, m.
+    pub fn reference_half_beam(&self) -> f64 {
+        self.sweep.reference_half_beam
+    }
+
+    /// The nondimensional added-mass table of DESIGN.md (`kR,i,j,re,im`, values
+    /// `A~ / (rho pi R^2)`), the bytes [`SweepResult::write_csv`] writes.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_table(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        self.sweep.write_csv(out)
+    }
+
+    /// The nondimensional excitation table of DESIGN.md (`kR,j,heading,re,im`, values
+    /// `X_j / (rho g a R^(1 + e_j))`) of the total force or its Froude-Krylov part, the bytes
+    /// [`SweepResult::write_excitation_csv`] writes.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_excitation_table(
+        &self,
+        out: &mut dyn std::io::Write,
+        part: ExcitationPart,
+    ) -> std::io::Result<()> {
+        self.sweep.write_excitation_csv(out, part)
     }
 
     /// The frame in words, for the files' headers.
@@ -346,5 +387,81 @@ mod tests {
         let twice = r#"<rigid name="a" kind="heave"/><rigid name="b" kind="heave"/>"#;
         let e = wamit_names(&hull(twice)).unwrap_err();
         assert!(e.to_string().contains("both WAMIT's 'heave'"), "{e}");
+    }
+
+    /// The section database of `hull` on a small grid, and its sweep's own tables.
+    fn exported(hull: &Hull) -> (SectionDatabase, [Vec<u8>; 3]) {
+        use crate::panels::PanelParams;
+        use crate::sweep::{run, SweepParams};
+        let params = SweepParams {
+            kr: vec![0.3, 1.2],
+            panels: PanelParams {
+                body_panels: 24,
+                ..PanelParams::default()
+            },
+            ..SweepParams::default()
+        };
+        let sweep = run(hull, &params, &|_, _| {}).unwrap();
+        let mut today: [Vec<u8>; 3] = Default::default();
+        sweep.write_csv(&mut today[0]).unwrap();
+        sweep
+            .write_excitation_csv(&mut today[1], ExcitationPart::Total)
+            .unwrap();
+        sweep
+            .write_excitation_csv(&mut today[2], ExcitationPart::FroudeKrylov)
+            .unwrap();
+        (
+            SectionDatabase::from_sweep(hull, &sweep, 1025.0, 9.81).unwrap(),
+            today,
+        )
+    }
+
+    fn assert_tables_as_today(hull: &Hull) {
+        let (section, today) = exported(hull);
+        let mut ours: [Vec<u8>; 3] = Default::default();
+        section.write_table(&mut ours[0]).unwrap();
+        section
+            .write_excitation_table(&mut ours[1], ExcitationPart::Total)
+            .unwrap();
+        section
+            .write_excitation_table(&mut ours[2], ExcitationPart::FroudeKrylov)
+            .unwrap();
+        for (k, (ours, today)) in ours.iter().zip(&today).enumerate() {
+            assert!(ours == today, "{}: table {k} differs", hull.name());
+        }
+        // The export is of this database: its DOFs, R and rows.
+        let text = String::from_utf8(ours[0].clone()).unwrap();
+        let n = section.database.dof_names.len();
+        let rows = text.lines().filter(|l| l.starts_with("inf,")).count();
+        assert_eq!(rows, n * n);
+        assert!(text.contains(&format!("# R: {} m\n", section.reference_half_beam())));
+        assert_eq!(section.database.omega.len(), 2);
+        assert!(section
+            .database
+            .stiffness_hydrostatic
+            .iter()
+            .any(|c| *c != 0.0));
+        assert_eq!(section.database.excitation.len(), 2);
+    }
+
+    #[test]
+    fn a_semicircle_exports_todays_tables() {
+        assert_tables_as_today(&Hull::semicircle(2.0).unwrap());
+    }
+
+    #[test]
+    fn a_submerged_circle_exports_todays_tables() {
+        assert_tables_as_today(&Hull::circle(1.0, 2.0).unwrap());
+    }
+
+    #[test]
+    fn the_midship_section_exports_todays_tables() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hulls/midship.xml");
+        let hull = Hull::from_file(&path)
+            .unwrap()
+            .select_dofs(&["sway", "heave", "roll"])
+            .unwrap();
+        assert_tables_as_today(&hull);
     }
 }
