@@ -189,29 +189,23 @@ impl Database {
             "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude; whole body, {}",
             self.source
         )?;
-        writeln!(out, "kR,j,heading,re,im")?;
         let scale: Vec<f64> = self
             .dof_units
             .iter()
             .map(|u| self.rho * self.g * r.powi(1 + i32::from(u.length_exponent)))
             .collect();
-        if let Some(long_wave) = &self.excitation_long_wave {
-            for heading in &self.headings {
-                for (j, value) in long_wave.iter().enumerate() {
-                    writeln!(out, "0,{},{heading},{:e},0", j + 1, value / scale[j] + 0.0)?;
-                }
-            }
-        }
-        for (omega, forces) in self.omega.iter().zip(&self.excitation) {
-            let kr = crate::units::kr_from_omega(*omega, r, self.g);
-            for (h, heading) in self.headings.iter().enumerate() {
-                for j in 0..forces.nrows() {
-                    let z = forces[(j, h)] / scale[j];
-                    writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
-                }
-            }
-        }
-        Ok(())
+        let rows = self
+            .omega
+            .iter()
+            .zip(&self.excitation)
+            .map(|(omega, forces)| (crate::units::kr_from_omega(*omega, r, self.g), forces));
+        crate::waves::write_excitation_rows(
+            out,
+            &self.headings,
+            self.excitation_long_wave.as_deref(),
+            &scale,
+            rows,
+        )
     }
 
     fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {

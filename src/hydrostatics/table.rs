@@ -24,22 +24,24 @@ pub struct Table {
 impl Table {
     /// Writes the table.
     pub fn to_csv(&self, name: &str, what: &str) -> String {
-        let n = self.modes.len();
         let mut out = format!(
-            "# hull: {name}\n# modes: {}\n# values: C_ij / (rho g), SI, {what}\ni,j,value\n",
+            "# hull: {name}\n# modes: {}\n# values: C_ij / (rho g), SI, {what}\n",
             self.modes.join(" ")
         );
-        for i in 0..n {
-            for j in 0..n {
-                out.push_str(&format!(
-                    "{},{},{:e}\n",
-                    i + 1,
-                    j + 1,
-                    self.stiffness_per_rho_g[(i, j)] + 0.0
-                ));
+        self.write_rows(&mut out);
+        out
+    }
+
+    /// Appends the column line `i,j,value` and one row per entry, `C_ij / (rho g)` (a zero
+    /// entry as 0, not -0): the part every restoring table shares after its `#` lines.
+    pub fn write_rows(&self, out: &mut String) {
+        out.push_str("i,j,value\n");
+        let c = &self.stiffness_per_rho_g;
+        for i in 0..c.nrows() {
+            for j in 0..c.ncols() {
+                out.push_str(&format!("{},{},{:e}\n", i + 1, j + 1, c[(i, j)] + 0.0));
             }
         }
-        out
     }
 
     /// Parses the table; `source` starts every error message.

@@ -130,26 +130,22 @@ impl SweepResult {
             }
         }
         self.write_notes(out)?;
-        writeln!(out, "kR,j,heading,re,im")?;
-        for heading in HEADINGS {
-            for (j, value) in self.excitation_long_wave.iter().enumerate() {
-                // + 0.0: a zero limit prints as 0, not -0.
-                writeln!(out, "0,{},{heading},{:e},0", j + 1, value + 0.0)?;
-            }
-        }
-        for (kr, forces) in self.kr.iter().zip(&self.excitation) {
+        // Already nondimensional: a scale of 1 (exact).
+        let unit = vec![1.0; self.dof_names.len()];
+        let rows = self.kr.iter().zip(&self.excitation).map(|(kr, forces)| {
             let values = match part {
                 ExcitationPart::Total => &forces.direct,
                 ExcitationPart::FroudeKrylov => &forces.froude_krylov,
             };
-            for (h, heading) in HEADINGS.iter().enumerate() {
-                for j in 0..values.nrows() {
-                    let z = values[(j, h)];
-                    writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
-                }
-            }
-        }
-        Ok(())
+            (*kr, values)
+        });
+        crate::waves::write_excitation_rows(
+            out,
+            &HEADINGS,
+            Some(&self.excitation_long_wave),
+            &unit,
+            rows,
+        )
     }
 
     /// The lines every table starts with: hull, H/R, modes, convention, R, panels.

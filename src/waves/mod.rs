@@ -33,6 +33,7 @@ mod table;
 
 pub use sea::{Sea, SeaScratch, RESYNC_INTERVAL};
 pub use spectrum::{jonswap, SPECTRUM_RANGE};
+pub(crate) use table::write_excitation_rows;
 pub use table::{
     ExcitationTable, MAX_HEADINGS, MAX_MODES, MAX_ROWS, MAX_TABLE_BYTES, MAX_WAVE_FREQUENCIES,
 };

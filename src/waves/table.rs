@@ -14,12 +14,17 @@
 //! `omega = sqrt(kR g / R)`. `kR = 0` rows are the long-wave limit. Every (kR, heading) must
 //! hold each `j` exactly once.
 //!
+//! One writer of the rows ([`write_excitation_rows`]) serves a section's sweep and a
+//! whole-body database.
+//!
 //! Interpolation: cubic Hermite in `ln kR` over the positive `kR` (each node's slope from the
 //! polynomial through the five nodes around it; linear with two nodes); below
 //! the band, linear in `kR` towards the `kR = 0` rows when the table has them.
 
 use super::WaveError;
+use nalgebra::DMatrix;
 use num_complex::Complex64;
+use std::io::Write;
 
 /// Largest table accepted, in bytes of text (64 MiB).
 pub const MAX_TABLE_BYTES: usize = 64 << 20;
@@ -37,6 +42,36 @@ const MAX_LENGTH_EXPONENT: i32 = 4;
 const BAND_SLACK: f64 = 1e-12;
 const CONVENTION: &str = "exp(+i omega t)";
 const COLUMNS: &str = "kR,j,heading,re,im";
+
+/// Writes the column line and the rows of an excitation table: the long-wave `kR = 0` rows
+/// first (every heading, `long_wave[j] / scale[j]`, imaginary part 0), then for each
+/// `(kR, X)` of `rows` every heading and mode, `X[(j, h)] / scale[j]` (`X` one column per
+/// heading of `headings`). A zero long-wave value prints as 0, not -0.
+pub(crate) fn write_excitation_rows<'a>(
+    out: &mut dyn Write,
+    headings: &[f64],
+    long_wave: Option<&[f64]>,
+    scale: &[f64],
+    rows: impl Iterator<Item = (f64, &'a DMatrix<Complex64>)>,
+) -> std::io::Result<()> {
+    writeln!(out, "{COLUMNS}")?;
+    if let Some(long_wave) = long_wave {
+        for heading in headings {
+            for (j, value) in long_wave.iter().enumerate() {
+                writeln!(out, "0,{},{heading},{:e},0", j + 1, value / scale[j] + 0.0)?;
+            }
+        }
+    }
+    for (kr, forces) in rows {
+        for (h, heading) in headings.iter().enumerate() {
+            for j in 0..forces.nrows() {
+                let z = forces[(j, h)] / scale[j];
+                writeln!(out, "{kr:e},{},{heading},{:e},{:e}", j + 1, z.re, z.im)?;
+            }
+        }
+    }
+    Ok(())
+}
 
 /// A parsed excitation table: nondimensional `X_j / (rho g a R^(1 + e_j))` on a rectangular
 /// set of `kR` x heading x mode.
