@@ -13,10 +13,10 @@ pub struct WamitFiles {
     pub hydrostatics: String,
 }
 
-/// Writes `database` as WAMIT files (the inverse of [`read`] with ULEN = 1 m and the
+/// Writes `database` as WAMIT files (the inverse of [`super::read`] with ULEN = 1 m and the
 /// database's rho and g): `Abar = A / rho`, `Bbar = B / (rho omega) = -Im A~ / rho`,
 /// `Xbar = X / (rho g)`, `Cbar = C / (rho g)`, 10 significant digits. One header line names
-/// the modes (`modes: 3=heave 5=pitch 7=vb1`), so that [`read`] gives the names back; other
+/// the modes (`modes: 3=heave 5=pitch 7=vb1`), so that [`super::read`] gives the names back; other
 /// readers skip it (or read the files without it: WAMIT writes one with NUMHDR = 1).
 pub fn write(database: &Database) -> WamitFiles {
     let index = mode_indices(&database.dof_names);

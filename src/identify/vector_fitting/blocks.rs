@@ -10,7 +10,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 /// The normalized data of a fit split into its invariant blocks (see
-/// [`passive_block_vector_fit`]); each block can be fitted on its own, with its own poles.
+/// [`super::passive_block_vector_fit`]); each block can be fitted on its own, with its own poles.
 pub struct Blocks {
     problem: Problem,
     target: Vec<DMatrix<Complex64>>,
