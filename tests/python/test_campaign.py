@@ -120,7 +120,8 @@ def test_a_dask_campaign_runs_every_case_once_packed_and_matches_serial_and_the_
         h_third = float(np.mean(heights[: len(heights) // 3]))
         print(f"{dof}: significant {row['significant']:.5g}, highest third of {len(heights)} zero-upcrossing "
               f"heights {h_third:.5g} ({h_third / row['std']:.3f} std)")
-        assert 0.8 * row["significant"] < h_third < 1.05 * row["significant"], (dof, h_third, row)
+        # measured: 3.95 std (heave) and 3.97 std (pitch), 0.99 of the significant force
+        assert 0.9 * row["significant"] < h_third < 1.05 * row["significant"], (dof, h_third, row)
 
 
 def test_the_same_case_under_libcosim_gives_the_same_record(barge):
