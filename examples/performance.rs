@@ -1,16 +1,28 @@
-//! Regenerates `docs/PERFORMANCE.md` and its figures: speed against error of the panel
-//! method, of the network (order, communication step, scene reduction) and against direct
-//! convolution.
+//! Generates the performance report `PERFORMANCE.md` and its figures: speed against error of
+//! the panel method, of the network (order, communication step, scene reduction) and against
+//! direct convolution.
 //!
 //! ```sh
-//! cargo run --release -p fmu-pack --example performance
+//! cargo run --release -p fmu-pack --example performance                  # into target/reports/
+//! cargo run --release -p fmu-pack --example performance -- --update-docs # docs/PERFORMANCE.md
+//! cargo run --release -p fmu-pack --example performance -- --quick       # the drift check
 //! ```
+//!
+//! `--quick` (seconds) computes the sweep table's errors for 32 to 128 panels only, against a
+//! 512-panel three-level reference instead of the 2048-panel one (its own error, 1.2e-5 in
+//! the full report, bounds the difference), and fails if an error differs from
+//! `docs/PERFORMANCE.md` by more than 2.5e-5 plus 2 % plus one unit of its last printed
+//! digit. Times are not compared (the machine is shared).
 //!
 //! Times are wall-clock medians of repeated runs in this one process (the machine is shared:
 //! compare ratios within one report, not across reports).
 
 #[path = "performance/network.rs"]
 mod network;
+#[path = "report/mod.rs"]
+mod report;
+
+use report::{Output, Tolerance};
 
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
@@ -61,14 +73,14 @@ fn error(result: &SweepResult, reference: &SweepResult) -> f64 {
 
 fn main() {
     let started = Instant::now();
-    std::fs::create_dir_all("docs/figures").expect("docs/figures");
-    // `--network-only`: the network sections alone, into target/ (a quick check while
-    // editing them; the report itself always has every section).
+    let out = Output::from_args();
+    // `--network-only`: the network sections alone (a check while editing them; the report
+    // itself always has every section).
     if std::env::args().any(|a| a == "--network-only") {
         let mut doc = String::new();
-        network::sections(&mut doc, 2, COMMAND);
-        std::fs::write("target/PERFORMANCE-network.md", doc).expect("write");
-        eprintln!("wrote target/PERFORMANCE-network.md");
+        network::sections(&out, &mut doc, 2, COMMAND);
+        let path = out.write_page("PERFORMANCE-network", &doc);
+        eprintln!("wrote {}", path.display());
         return;
     }
     let hull = Hull::semicircle(1.0).expect("semicircle");
@@ -90,11 +102,12 @@ fn main() {
     );
 
     // Reference for the errors: 2048 panels, three-level extrapolation.
-    eprintln!("reference sweep (2048 panels) ...");
+    let reference_panels = if out.quick { 512 } else { 2048 };
+    eprintln!("reference sweep ({reference_panels} panels) ...");
     let reference_grid = sweep::log_grid(0.01, 10.0, 41).expect("grid");
     let reference = sweep::run(
         &hull,
-        &params(2048, 3, threads, reference_grid.clone()),
+        &params(reference_panels, 3, threads, reference_grid.clone()),
         &|_, _| {},
     )
     .expect("reference");
@@ -107,7 +120,7 @@ fn main() {
     let _ = writeln!(
         doc,
         "Error: max over 41 log-spaced kR in 0.01 .. 10 and all 81 entries of \
-         `|dA_ij| / sqrt(|A_ii A_jj|)` against 2048 panels with three-level extrapolation. \
+         `|dA_ij| / sqrt(|A_ii A_jj|)` against {reference_panels} panels with three-level extrapolation. \
          Time: the full {}-point sweep on {threads} threads. Stage times are summed over the \
          threads.\n",
         grid.len()
@@ -118,7 +131,12 @@ fn main() {
     );
     let mut plain_curve = Vec::new();
     let mut extrapolated_curve = Vec::new();
-    for n in [32usize, 64, 128, 256, 512, 1024] {
+    let panel_counts: &[usize] = if out.quick {
+        &[32, 64, 128]
+    } else {
+        &[32, 64, 128, 256, 512, 1024]
+    };
+    for &n in panel_counts {
         for levels in [1usize, 3] {
             eprintln!("N = {n}, levels = {levels} ...");
             let (time, result) = timed(&hull, &params(n, levels, threads, grid.clone()));
@@ -143,6 +161,26 @@ fn main() {
             );
         }
     }
+    if out.quick {
+        let path = out.write_page("PERFORMANCE", &doc);
+        eprintln!(
+            "wrote {} in {:.1} s",
+            path.display(),
+            started.elapsed().as_secs_f64()
+        );
+        report::check_against_docs(
+            "PERFORMANCE",
+            &doc,
+            &["panels N", "levels"],
+            &|header| header == "error",
+            Tolerance {
+                relative: 0.02,
+                absolute: 2.5e-5,
+                units: 1.0,
+            },
+        );
+        return;
+    }
     let mut figure = Figure::new(
         "semicircle sweep: error against wall time",
         "sweep wall time (s), 201 frequencies",
@@ -162,7 +200,7 @@ fn main() {
         Style::Dashed,
     );
     figure.caption = plot::provenance(COMMAND);
-    std::fs::write("docs/figures/performance-sweep.svg", figure.to_svg()).expect("write");
+    out.write_figure("performance-sweep", &figure.to_svg());
     let _ = writeln!(
         doc,
         "\n![error against time](figures/performance-sweep.svg)\n"
@@ -198,7 +236,7 @@ fn main() {
         100.0 * (with / without - 1.0)
     );
 
-    network::sections(&mut doc, threads, COMMAND);
+    network::sections(&out, &mut doc, threads, COMMAND);
 
     let _ = writeln!(
         doc,
@@ -237,9 +275,10 @@ fn main() {
          distinct sections by `examples/ships/wigley_speed.py`; its benchmarks (`cargo bench \
          --bench ship`) are in docs/BENCHMARKS.md."
     );
-    std::fs::write("docs/PERFORMANCE.md", doc).expect("write docs/PERFORMANCE.md");
+    let path = out.write_page("PERFORMANCE", &doc);
     eprintln!(
-        "wrote docs/PERFORMANCE.md in {:.0} s",
+        "wrote {} in {:.0} s",
+        path.display(),
         started.elapsed().as_secs_f64()
     );
 }

@@ -1,11 +1,17 @@
-//! Regenerates `docs/VALIDATION.md` and its figures in `docs/figures/`:
+//! Generates the validation report `VALIDATION.md` and its figures:
 //!
 //! ```sh
-//! cargo run --release -p fmu-pack --example validation
+//! cargo run --release -p fmu-pack --example validation                  # into target/reports/
+//! cargo run --release -p fmu-pack --example validation -- --update-docs # docs/VALIDATION.md
+//! cargo run --release -p fmu-pack --example validation -- --quick       # the drift check
 //! ```
 //!
+//! `--quick` (seconds) computes the exact limits and the published spot values only, at the
+//! default settings, and fails if one of their numbers differs from `docs/VALIDATION.md` by
+//! more than two units of its last printed digit (examples/report/mod.rs).
+//!
 //! It compares the panel method with exact limits, published spot values and the digitized
-//! Vugts (1968) curves, reproduces the seed's Figures 3 and 4, shows the removal of irregular
+//! Vugts (1968) curves, reproduces Figures 3 and 4 of Schilder et al. (docs/DESIGN.md), shows the removal of irregular
 //! frequencies, and estimates the error of the default settings from a refinement study.
 
 use fmu_pack::plot::{self, Figure, Scale, Style};
@@ -19,6 +25,13 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
+
+#[path = "validation/identification.rs"]
+mod identification;
+#[path = "report/mod.rs"]
+mod report;
+
+use report::{Output, Tolerance};
 
 const COMMAND: &str = "cargo run --release -p fmu-pack --example validation";
 const EULER_GAMMA: f64 = 0.577_215_664_901_532_9;
@@ -99,16 +112,15 @@ fn interpolate(kr: &[f64], values: &[f64], x: f64) -> Option<f64> {
     Some(values[k - 1] + t * (values[k] - values[k - 1]))
 }
 
-fn save(figure: &mut Figure, name: &str) -> String {
+fn save(out: &Output, figure: &mut Figure, name: &str) -> String {
     figure.caption = plot::provenance(COMMAND);
-    let path = format!("docs/figures/{name}.svg");
-    std::fs::write(&path, figure.to_svg()).unwrap();
+    out.write_figure(name, &figure.to_svg());
     format!("![{}](figures/{name}.svg)\n", figure.title)
 }
 
 fn main() {
     let started = Instant::now();
-    std::fs::create_dir_all("docs/figures").unwrap();
+    let out = Output::from_args();
     let default_params = SweepParams::default();
     let grid = default_params.kr.clone();
     let default_panels = default_params.panels.body_panels;
@@ -131,13 +143,20 @@ fn main() {
     // Default sweeps and refined references.
     eprintln!("default sweeps ...");
     let cases = cases();
+    // Quick: the semicircle alone, on two kR (its limits do not depend on the grid).
+    let (swept, sweep_grid) = if out.quick {
+        (1, vec![0.5, 1.0])
+    } else {
+        (cases.len(), grid.clone())
+    };
     let defaults: Vec<SweepResult> = cases
         .iter()
+        .take(swept)
         .map(|c| {
             run_sweep(
                 c,
                 PanelParams::for_hull(&c.hull).body_panels,
-                grid.clone(),
+                sweep_grid.clone(),
                 IrregularFrequencies::RemoveWithLid,
                 3,
             )
@@ -242,10 +261,31 @@ fn main() {
         );
     }
 
-    // 3. Figures 3 and 4 of the seed.
+    if out.quick {
+        let path = out.write_page("VALIDATION", &doc);
+        eprintln!(
+            "wrote {} in {:.1} s",
+            path.display(),
+            started.elapsed().as_secs_f64()
+        );
+        report::check_against_docs(
+            "VALIDATION",
+            &doc,
+            &["quantity", "H/R", "kR", "mode"],
+            &|_| true,
+            Tolerance {
+                relative: 0.0,
+                absolute: 0.0,
+                units: 2.0,
+            },
+        );
+        return;
+    }
+
+    // 3. Figures 3 and 4 of Schilder et al.
     let _ = writeln!(
         doc,
-        "\n## The seed's Figure 3: circle in sway at H/R = 0, 1.1, 2\n"
+        "\n## Schilder et al.'s Figure 3: circle in sway at H/R = 0, 1.1, 2\n"
     );
     let mut real = Figure::new("Re A~ sway / (rho pi R^2)", "kR", "a / (rho pi R^2)");
     let mut imag = Figure::new("Im A~ sway / (rho pi R^2)", "kR", "-b / (omega rho pi R^2)");
@@ -268,12 +308,12 @@ fn main() {
         real.add(case.label, re, Style::Line);
         imag.add(case.label, im, Style::Line);
     }
-    doc.push_str(&save(&mut real, "fig3-real"));
-    doc.push_str(&save(&mut imag, "fig3-imag"));
+    doc.push_str(&save(&out, &mut real, "fig3-real"));
+    doc.push_str(&save(&out, &mut imag, "fig3-imag"));
 
     let _ = writeln!(
         doc,
-        "\n## The seed's Figure 4: x-direction added mass of the Craig-Bampton modes (H/R = 0)\n"
+        "\n## Schilder et al.'s Figure 4: x-direction added mass of the Craig-Bampton modes (H/R = 0)\n"
     );
     let _ = writeln!(
         doc,
@@ -309,8 +349,8 @@ fn main() {
             if j > 3 { Style::Dashed } else { Style::Line },
         );
     }
-    doc.push_str(&save(&mut real, "fig4-real"));
-    doc.push_str(&save(&mut imag, "fig4-imag"));
+    doc.push_str(&save(&out, &mut real, "fig4-real"));
+    doc.push_str(&save(&out, &mut imag, "fig4-imag"));
     let cb = |j: usize| dof(semi, &format!("cb{j}"));
     let sym = |a: usize, b: usize, sign: f64| {
         semi.added_mass
@@ -324,10 +364,10 @@ fn main() {
          maps cb1 to cb4, cb2 to -cb5, cb3 to -cb6, and sway to -sway. Hence \
          A(sway,cb1) = -A(sway,cb4), A(sway,cb2) = A(sway,cb5), A(sway,cb3) = A(sway,cb6). \
          Measured over the grid (max absolute difference): |A(sway,cb1) + A(sway,cb4)| = {:.1e}, \
-         |A(sway,cb2) - A(sway,cb5)| = {:.1e}, |A(sway,cb3) - A(sway,cb6)| = {:.1e}. The seed \
-         reports modes 1 and 4 equal and modes 2, 3 and 6 equal to minus mode 5: its modes 1-3 \
+         |A(sway,cb2) - A(sway,cb5)| = {:.1e}, |A(sway,cb3) - A(sway,cb6)| = {:.1e}. Schilder et al. \
+         report modes 1 and 4 equal and modes 2, 3 and 6 equal to minus mode 5: their modes 1-3 \
          sit at the other end of the beam, with theta reversed (see the Table 1 test in \
-         `src/hull/craig_bampton.rs`), which turns the signs; its claim that 2 and 3 are equal does not hold \
+         `src/hull/craig_bampton.rs`), which turns the signs; their claim that 2 and 3 are equal does not hold \
          here (|A(sway,cb2) - A(sway,cb3)| = {:.2} at R = 1 m).\n",
         sym(1, 4, -1.0),
         sym(2, 5, 1.0),
@@ -402,6 +442,7 @@ fn main() {
         );
         figure.add("Vugts (digitized)", digitized.clone(), Style::Markers);
         images.push_str(&save(
+            &out,
             &mut figure,
             &format!("vugts-{}", file.trim_end_matches("_analytical.csv")),
         ));
@@ -410,7 +451,7 @@ fn main() {
     doc.push_str(&images);
 
     // 4b. Exciting force of regular waves.
-    exciting_force(&mut doc, &cases, &defaults);
+    exciting_force(&out, &mut doc, &cases, &defaults);
 
     // 5. Irregular frequencies.
     let _ = writeln!(doc, "\n## Irregular frequencies\n");
@@ -435,7 +476,7 @@ fn main() {
         "a / (rho pi R^2)",
     );
     figure.add(
-        "plain source method (seed)",
+        "plain source method (Schilder et al.)",
         plain
             .kr
             .iter()
@@ -460,7 +501,7 @@ fn main() {
          difference between the two: {:.3}.\n",
         plain.added_mass.iter().zip(&lid.added_mass).map(|(a, b)| (a[(heave, heave)] - b[(heave, heave)]).norm()).fold(0.0, f64::max)
     );
-    doc.push_str(&save(&mut figure, "irregular-frequencies"));
+    doc.push_str(&save(&out, &mut figure, "irregular-frequencies"));
 
     // 6. Convergence and the error estimate of the default settings.
     let _ = writeln!(
@@ -567,7 +608,7 @@ fn main() {
         convergence.series[2 * k + 1].colour = k;
     }
     doc.push('\n');
-    doc.push_str(&save(&mut convergence, "convergence"));
+    doc.push_str(&save(&out, &mut convergence, "convergence"));
     let _ = writeln!(doc, "\n### Estimated error of the default settings\n");
     let _ = writeln!(doc, "| case | default panels | max normalized error | at kR | entry (i, j) | exciting force error | at kR | DOF |\n| --- | --- | --- | --- | --- | --- | --- | --- |");
     for (label, n, e, kr, entry, (e_x, kr_x, dof_x)) in default_errors {
@@ -589,22 +630,23 @@ fn main() {
     );
 
     // 7. Identification.
-    identification(&mut doc, semi);
+    identification::section(&out, &mut doc, semi);
 
     let _ = writeln!(
         doc,
         "\nGenerated in {:.0} s.",
         started.elapsed().as_secs_f64()
     );
-    std::fs::write("docs/VALIDATION.md", doc).unwrap();
+    let path = out.write_page("VALIDATION", &doc);
     eprintln!(
-        "wrote docs/VALIDATION.md in {:.0} s",
+        "wrote {} in {:.0} s",
+        path.display(),
         started.elapsed().as_secs_f64()
     );
 }
 
 /// The exciting force: the digitized Vugts curves, and the identities on the default sweeps.
-fn exciting_force(doc: &mut String, cases: &[Case], defaults: &[SweepResult]) {
+fn exciting_force(out: &Output, doc: &mut String, cases: &[Case], defaults: &[SweepResult]) {
     let semi = &defaults[0];
     let (sway, heave) = (dof(semi, "sway"), dof(semi, "heave"));
     let _ = writeln!(doc, "\n## Exciting force of regular waves\n");
@@ -671,6 +713,7 @@ fn exciting_force(doc: &mut String, cases: &[Case], defaults: &[SweepResult]) {
         );
         figure.add("Vugts (digitized)", digitized, Style::Markers);
         images.push_str(&save(
+            out,
             &mut figure,
             &format!("vugts-{}", file.trim_end_matches("_analytical.csv")),
         ));
@@ -720,174 +763,4 @@ fn exciting_force(doc: &mut String, cases: &[Case], defaults: &[SweepResult]) {
         }
         let _ = writeln!(doc, "| {} | {energy:.1e} | {haskind:.1e} |", case.label);
     }
-}
-
-/// Seed section 4 and 5: the 2-DOF chain, our fits, and the seed's Figure 7.
-fn identification(doc: &mut String, semi: &SweepResult) {
-    use hydrofmu::identify::{self, FitParams, FrequencyResponse};
-    use hydrofmu::network::Network;
-    eprintln!("identification ...");
-    let _ = writeln!(
-        doc,
-        "\n## Identification: the semicircle in sway (seed section 4)\n"
-    );
-    // rho = 1/pi, g = 1, R = 1: masses per rho pi R^2, frequencies omega sqrt(R/g) = sqrt(kR).
-    let data = FrequencyResponse::from_sweep(semi, 1.0 / PI, 1.0)
-        .select(&["sway"])
-        .expect("sway");
-    let band = (0.01f64.sqrt() * 0.999, 4.0f64.sqrt() * 1.001);
-    let exact_ratio = 0.5 / (2.0 / (PI * PI));
-    let seed = Network::from_file("examples/networks/seed_2dof.xml").expect("seed network");
-    let seed_total: f64 = seed.added_mass_zero()[(0, 0)];
-    let seed_ratio = seed_total / seed.added_mass_inf[(0, 0)];
-    let _ = writeln!(
-        doc,
-        "Series chains (the seed's Figure 5) fitted to the panel method's sway curve over \
-         kR = 0.01 .. 4, with m0 = A_inf from the omega -> inf problem. Units: masses per \
-         rho pi R^2, springs per rho pi R^2 g/R, dampers per rho pi R^2 sqrt(g/R).\n"
-    );
-    let _ = writeln!(
-        doc,
-        "| added DOFs | max error (per rho pi R^2) | A(0)/A_inf of the network | parameters (m, k, c per stage) |\n| --- | --- | --- | --- |"
-    );
-    let mut real = Figure::new(
-        "semicircle sway: Re A~ and fits (seed Figure 6)",
-        "kR",
-        "a / (rho pi R^2)",
-    );
-    let mut imag = Figure::new(
-        "semicircle sway: Im A~ and fits",
-        "kR",
-        "-b / (omega rho pi R^2)",
-    );
-    real.x_scale = Scale::Log;
-    imag.x_scale = Scale::Log;
-    real.add(
-        "panel method",
-        data.omega
-            .iter()
-            .zip(&data.added_mass)
-            .map(|(w, m)| (w * w, m[(0, 0)].re))
-            .collect(),
-        Style::Markers,
-    );
-    imag.add(
-        "panel method",
-        data.omega
-            .iter()
-            .zip(&data.added_mass)
-            .map(|(w, m)| (w * w, m[(0, 0)].im))
-            .collect(),
-        Style::Markers,
-    );
-    let mut two_dof_ratio = f64::NAN;
-    for order in 1..=3 {
-        let params = FitParams {
-            form: Some(hydrofmu::network::NetworkForm::SeriesChain),
-            band,
-            order: Some(order),
-            ..FitParams::default()
-        };
-        let report = identify::fit(&data, &params).expect("fit");
-        let network = &report.network;
-        let ratio = network.added_mass_zero()[(0, 0)] / network.added_mass_inf[(0, 0)];
-        if order == 2 {
-            two_dof_ratio = ratio;
-        }
-        let stages: Vec<String> = network.branches[0]
-            .stages
-            .iter()
-            .map(|st| format!("({:.4}, {:.4}, {:.4})", st.mass, st.stiffness, st.damping))
-            .collect();
-        let _ = writeln!(
-            doc,
-            "| {order} | {:.2e} | {ratio:.3} | m0 = {:.4}; {} |",
-            report.max_error[(0, 0)],
-            network.added_mass_inf[(0, 0)],
-            stages.join(" ")
-        );
-        let curve = |part: fn(Complex64) -> f64| -> Vec<(f64, f64)> {
-            data.omega
-                .iter()
-                .map(|&w| (w * w, part(network.added_mass_tf(w)[(0, 0)])))
-                .collect()
-        };
-        real.add(&format!("{order} added DOFs"), curve(|z| z.re), Style::Line);
-        imag.add(&format!("{order} added DOFs"), curve(|z| z.im), Style::Line);
-    }
-    doc.push('\n');
-    doc.push_str(&save(&mut real, "fit-sway-real"));
-    doc.push_str(&save(&mut imag, "fit-sway-imag"));
-    let _ = writeln!(
-        doc,
-        "\n**The seed's own coefficients** (after its eq. 19; `examples/networks/seed_2dof.xml`) \
-         do not reproduce the semicircle's sway curve in any normalization: the ratio of zero- to \
-         infinite-frequency added mass is invariant under any scaling of mass and time, and theirs \
-         is (m0 + m1 + m2)/m0 = {seed_ratio:.2}, while the exact ratio is \
-         (1/2)/(2/pi^2) = {exact_ratio:.2}. Our 2-added-DOF fit has {two_dof_ratio:.2}.\n"
-    );
-
-    // Figure 7: unit impulse on a 1 kg body attached to the seed's network (eq. 19).
-    let body_mass = 1.0;
-    let matrices = seed
-        .augmented_matrices()
-        .expect("the seed network has branches only");
-    let mut mass = matrices.mass.clone();
-    mass[(0, 0)] += body_mass;
-    let inverse_mass = mass.clone().try_inverse().expect("mass matrix");
-    let size = mass.nrows();
-    let mut x = nalgebra::DVector::<f64>::zeros(size);
-    let mut v = nalgebra::DVector::<f64>::zeros(size);
-    v[0] = 1.0 / mass[(0, 0)];
-    let accel = |x: &nalgebra::DVector<f64>, v: &nalgebra::DVector<f64>| {
-        -(&inverse_mass * (&matrices.damping * v + &matrices.stiffness * x))
-    };
-    let dt = 1e-3;
-    let mut series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); size];
-    for step in 0..=60_000 {
-        let t = step as f64 * dt;
-        if step % 100 == 0 {
-            for (k, s) in series.iter_mut().enumerate() {
-                s.push((t, v[k]));
-            }
-        }
-        let (k1x, k1v) = (v.clone(), accel(&x, &v));
-        let (k2x, k2v) = (
-            &v + &k1v * (dt / 2.0),
-            accel(&(&x + &k1x * (dt / 2.0)), &(&v + &k1v * (dt / 2.0))),
-        );
-        let (k3x, k3v) = (
-            &v + &k2v * (dt / 2.0),
-            accel(&(&x + &k2x * (dt / 2.0)), &(&v + &k2v * (dt / 2.0))),
-        );
-        let (k4x, k4v) = (&v + &k3v * dt, accel(&(&x + &k3x * dt), &(&v + &k3v * dt)));
-        x += (k1x + &k2x * 2.0 + &k3x * 2.0 + k4x) * (dt / 6.0);
-        v += (k1v + &k2v * 2.0 + &k3v * 2.0 + k4v) * (dt / 6.0);
-    }
-    let expected = 1.0 / (body_mass + seed_total);
-    let mut figure = Figure::new(
-        "unit impulse response of the seed's network (seed Figure 7)",
-        "t",
-        "velocity",
-    );
-    for (k, s) in series.into_iter().enumerate() {
-        let label = if k == 0 {
-            "body + m0".to_string()
-        } else {
-            format!("m{k}")
-        };
-        figure.add(&label, s, Style::Line);
-    }
-    figure.add(
-        "1/(m + m0 + m1 + m2)",
-        vec![(0.0, expected), (60.0, expected)],
-        Style::Dashed,
-    );
-    let _ = writeln!(
-        doc,
-        "The seed's Figure 7 (m = 1, unit impulse, eq. 19 integrated with RK4, dt = 0.001): all \
-         velocities approach the common value {:.4}; expected 1/(m + m0 + m1 + m2) = {expected:.4}.\n",
-        v[0]
-    );
-    doc.push_str(&save(&mut figure, "seed-figure-7"));
 }

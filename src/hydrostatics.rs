@@ -1,6 +1,6 @@
 //! Linear hydrostatic restoring of every DOF of a hull section, per unit length.
 //!
-//! Conventions (DESIGN.md): y up, mean free surface y = 0, fluid below; the contour runs with
+//! Conventions (docs/DESIGN.md): y up, mean free surface y = 0, fluid below; the contour runs with
 //! the body on its left, `n = (-t_y, t_x)` points out of the fluid into the body; a DOF is a
 //! displacement field `u_j(s)` on the contour and its generalized force is
 //! `F_i = integral_C p n . u_i ds`, with the hydrostatic pressure `p0 = -rho g y`.

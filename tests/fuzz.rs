@@ -16,6 +16,13 @@
 //! ```
 //!
 //! A failing input is written to `target/fuzz-failures/<target>-<case>.txt`.
+//!
+//! Each target prints its counts (`fuzz NAME: N cases, M accepted`; `tests/run.sh` runs this
+//! file with `--nocapture`) and asserts a minimum of executed and of accepted cases, set to
+//! all 2000 default cases (each target runs them in 0.1 to 3 s of its 10 s budget in a debug
+//! build on a busy 2-core machine) and about three quarters of the measured accepted count
+//! (both scaled down with `HYDROFMU_FUZZ_CASES`): a mutator that produces nothing usable, or
+//! a parser that refuses everything, fails.
 
 use hydrofmu::fmu::Resources;
 use hydrofmu::hull::Hull;
@@ -141,10 +148,23 @@ fn mutate(rng: &mut Rng, seed: &[u8], corpus: &[Vec<u8>]) -> Vec<u8> {
     out
 }
 
+/// The fewest cases a target must execute and accept at the default case count (module docs).
+#[derive(Clone, Copy)]
+struct Minimum {
+    executed: u64,
+    accepted: u64,
+}
+
 /// Runs `target` on mutations of `seeds` (and on the seeds themselves); a panic or an `Err`
-/// (an accepted input that is not usable) fails the test.
-/// The first `valid` seeds are valid files and must be accepted.
-fn fuzz(name: &str, seeds: &[String], valid: usize, target: impl Fn(&str) -> Result<bool, String>) {
+/// (an accepted input that is not usable) fails the test, and so do fewer executed or
+/// accepted cases than `minimum`. The first `valid` seeds are valid files and must be accepted.
+fn fuzz(
+    name: &str,
+    seeds: &[String],
+    valid: usize,
+    minimum: Minimum,
+    target: impl Fn(&str) -> Result<bool, String>,
+) {
     let env = |key: &str, default: u64| {
         std::env::var(key)
             .ok()
@@ -203,11 +223,39 @@ fn fuzz(name: &str, seeds: &[String], valid: usize, target: impl Fn(&str) -> Res
         "fuzz {name}: {done} cases, {accepted} accepted, {:.1} s",
         start.elapsed().as_secs_f64()
     );
+    // Fewer cases asked for: the minimums scale down in proportion.
+    let executed = minimum.executed.min(cases);
+    let accepted_at_least = minimum.accepted * executed / minimum.executed.max(1);
     assert!(
-        done >= (seeds.len() as u64).min(cases),
-        "{name}: not even the seeds ran"
+        done >= executed,
+        "{name}: {done} cases executed, at least {executed} expected"
+    );
+    assert!(
+        accepted >= accepted_at_least,
+        "{name}: {accepted} cases accepted, at least {accepted_at_least} expected"
     );
 }
+
+/// All default cases executed, at least `accepted` accepted.
+const fn all_cases_and(accepted: u64) -> Minimum {
+    Minimum {
+        executed: 2000,
+        accepted,
+    }
+}
+
+// Accepted counts measured at the default 2000 cases (a debug build, 0.1 to 3 s per target,
+// every target reaching the case count before its time budget) in the comments.
+const MIN_XML: Minimum = all_cases_and(710); // 947
+const MIN_NETWORK: Minimum = all_cases_and(410); // 548
+const MIN_HULL: Minimum = all_cases_and(370); // 498
+const MIN_OPTIONS: Minimum = all_cases_and(530); // 707
+const MIN_EXCITATION: Minimum = all_cases_and(60); // 84
+const MIN_SHIP: Minimum = all_cases_and(125); // 167
+const MIN_OFFSETS: Minimum = all_cases_and(60); // 83
+const MIN_RESTORING: Minimum = all_cases_and(140); // 192
+/// The three WAMIT files: radiation (65 accepted), excitation (38), hydrostatics (379).
+const MIN_WAMIT: [Minimum; 3] = [all_cases_and(48), all_cases_and(28), all_cases_and(280)];
 
 fn read(path: &str) -> String {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -253,7 +301,7 @@ fn hull_seeds() -> Vec<String> {
 fn fuzz_the_xml_reader() {
     let mut seeds = network_seeds();
     seeds.extend(hull_seeds());
-    fuzz("xml", &seeds, 3, |text| {
+    fuzz("xml", &seeds, 3, MIN_XML, |text| {
         Ok(hydrofmu::xml::parse(text).is_ok())
     });
 }
@@ -264,7 +312,7 @@ fn fuzz_network_files() {
         keep_inf_mass: false,
         guid: None,
     };
-    fuzz("network", &network_seeds(), 3, |text| {
+    fuzz("network", &network_seeds(), 3, MIN_NETWORK, |text| {
         let Ok(network) = Network::from_xml_str(text, "fuzz.xml") else {
             return Ok(false);
         };
@@ -293,7 +341,7 @@ fn fuzz_network_files() {
 
 #[test]
 fn fuzz_hull_files() {
-    fuzz("hull", &hull_seeds(), 4, |text| {
+    fuzz("hull", &hull_seeds(), 4, MIN_HULL, |text| {
         let Ok(hull) = Hull::from_xml_str(text, "fuzz.xml") else {
             return Ok(false);
         };
@@ -314,7 +362,7 @@ fn fuzz_options_files() {
         Resources::options_text(true),
         nested("hydrofmu_options", "x", 100),
     ];
-    fuzz("options", &seeds, 2, |text| {
+    fuzz("options", &seeds, 2, MIN_OPTIONS, |text| {
         Ok(Resources::new(network.clone(), None, text.to_string()).is_ok())
     });
 }
@@ -337,7 +385,7 @@ fn fuzz_excitation_tables() {
         nine.clone(),
         nine.replace("# R: 1 m", "# R: 1e308 m"),
     ];
-    fuzz("excitation", &seeds, 2, |text| {
+    fuzz("excitation", &seeds, 2, MIN_EXCITATION, |text| {
         Ok(ExcitationTable::from_csv_str(text, "fuzz.csv").is_ok())
     });
 }
@@ -357,7 +405,7 @@ fn fuzz_ship_files() {
         read("examples/ships/barge.xml"),
         nested("ship", "station", 100),
     ];
-    fuzz("ship", &seeds, 2, |text| {
+    fuzz("ship", &seeds, 2, MIN_SHIP, |text| {
         let Ok(ship) = Ship::from_xml_str(text, "fuzz.xml", &folder) else {
             return Ok(false);
         };
@@ -386,7 +434,7 @@ fn fuzz_pdstrip_offsets() {
         "2 F 2.0\n-20 5 0\n4 4 2 -4 -4\n2 0.5 0 0.5 2\n20 5 0\n4 4 2 -4 -4\n2 0.5 0 0.5 2\n"
             .to_string(),
     ];
-    fuzz("offsets", &seeds, 2, |text| {
+    fuzz("offsets", &seeds, 2, MIN_OFFSETS, |text| {
         let Ok(ship) = Ship::from_offsets_str("fuzz", text, "fuzz.out", None) else {
             return Ok(false);
         };
@@ -412,7 +460,7 @@ fn fuzz_restoring_tables() {
         ),
     };
     let seeds = vec![table.to_csv("barge", "whole ship")];
-    fuzz("restoring", &seeds, 1, |text| {
+    fuzz("restoring", &seeds, 1, MIN_RESTORING, |text| {
         let Ok(t) = Table::from_csv_str(text, "fuzz.csv") else {
             return Ok(false);
         };
@@ -442,39 +490,45 @@ fn fuzz_wamit_files() {
         .enumerate()
     {
         let seeds = vec![files[which].clone()];
-        fuzz(&format!("wamit-{name}"), &seeds, 1, |text| {
-            let mut texts = files.clone();
-            texts[which] = text.to_string();
-            let sources = WamitTexts {
-                radiation: Source {
-                    name: "f.1",
-                    text: &texts[0],
-                },
-                excitation: Some(Source {
-                    name: "f.3",
-                    text: &texts[1],
-                }),
-                hydrostatics: Some(Source {
-                    name: "f.hst",
-                    text: &texts[2],
-                }),
-            };
-            let Ok(imported) = wamit::read("f", sources, &WamitParams::default()) else {
-                return Ok(false);
-            };
-            let mut db = imported.database;
-            if finish(&mut db, imported.added_mass_inf_given, &ImportParams::new()).is_err() {
-                return Ok(false);
-            }
-            let n = db.dof_names.len();
-            let consistent = db.omega.len() == db.added_mass.len()
-                && db.excitation.len() == db.omega.len()
-                && db.added_mass.iter().all(|m| m.shape() == (n, n))
-                && db.omega.windows(2).all(|w| w[0] < w[1]);
-            if !consistent || db.first_non_finite().is_some() {
-                return Err("accepted an inconsistent or non-finite database".into());
-            }
-            Ok(true)
-        });
+        fuzz(
+            &format!("wamit-{name}"),
+            &seeds,
+            1,
+            MIN_WAMIT[which],
+            |text| {
+                let mut texts = files.clone();
+                texts[which] = text.to_string();
+                let sources = WamitTexts {
+                    radiation: Source {
+                        name: "f.1",
+                        text: &texts[0],
+                    },
+                    excitation: Some(Source {
+                        name: "f.3",
+                        text: &texts[1],
+                    }),
+                    hydrostatics: Some(Source {
+                        name: "f.hst",
+                        text: &texts[2],
+                    }),
+                };
+                let Ok(imported) = wamit::read("f", sources, &WamitParams::default()) else {
+                    return Ok(false);
+                };
+                let mut db = imported.database;
+                if finish(&mut db, imported.added_mass_inf_given, &ImportParams::new()).is_err() {
+                    return Ok(false);
+                }
+                let n = db.dof_names.len();
+                let consistent = db.omega.len() == db.added_mass.len()
+                    && db.excitation.len() == db.omega.len()
+                    && db.added_mass.iter().all(|m| m.shape() == (n, n))
+                    && db.omega.windows(2).all(|w| w[0] < w[1]);
+                if !consistent || db.first_non_finite().is_some() {
+                    return Err("accepted an inconsistent or non-finite database".into());
+                }
+                Ok(true)
+            },
+        );
     }
 }

@@ -36,10 +36,17 @@ step "cargo doc"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 
 step "cargo test"
-cargo test --workspace
+# The fuzz targets run on their own below, with their counts shown.
+cargo test --workspace -- --skip fuzz_
+step "fuzz targets (executed and accepted cases of each, with their asserted minimums)"
+cargo test -p hydrofmu --test fuzz -- --nocapture
 
 step "release build of the FMU binary and fmu-pack"
 cargo build --release --workspace
+
+step "report generators, quick mode: their numbers against docs/VALIDATION.md and docs/PERFORMANCE.md"
+cargo run --release -q -p fmu-pack --example validation -- --quick --out target/reports
+cargo run --release -q -p fmu-pack --example performance -- --quick --out target/reports
 
 step "pytest (real FMU archives, built from the current source)"
 HYDROFMU_ROOT="$root" .venv/bin/python -m pytest -q tests/python

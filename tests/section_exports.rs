@@ -1,10 +1,10 @@
 //! A section's sweep exported per unit length (a 1 m slice) as WAMIT files and as a
 //! Capytaine dataset, read back by our importer; the exported numbers against the semicircle's
-//! exact limits and published values (shared/reference/README.md), reciprocity, damping and
+//! exact limits and published values (tests/data/reference/README.md), reciprocity, damping and
 //! the 2D Haskind energy relation.
 //!
 //! SI at rho = 1025 kg/m^3, g = 9.81 m/s^2, R = 1 m. The WAMIT files hold 10 significant
-//! digits: read-back to 1e-9 of each entry's scale; the NetCDF file holds doubles: 1e-12.
+//! digits: read-back to 1e-9 of each entry's scale; the NetCDF file holds doubles: 1e-15.
 
 use hydrofmu::database::import::{self, ImportParams};
 use hydrofmu::database::section::{self, SectionDatabase};
@@ -156,13 +156,15 @@ fn wamit_and_netcdf_exports_read_back_per_unit_length() {
     std::fs::write(dir.join("semi.hst"), &files.hydrostatics).unwrap();
     let read = import::import(&dir.join("semi.1"), &ImportParams::new()).unwrap();
     assert!(read.failures.is_empty(), "{:?}", read.failures);
+    // Ten significant digits in the file: measured 3.6e-10 of the entry scale.
     assert_same(&read, exported, 1e-9, "WAMIT");
 
     let nc = dir.join("semi.nc");
     section.write_netcdf(&nc).unwrap();
     let read = import::import(&nc, &ImportParams::new()).unwrap();
     assert!(read.failures.is_empty(), "{:?}", read.failures);
-    assert_same(&read, exported, 1e-12, "NetCDF");
+    // Doubles read back: measured 1.2e-16.
+    assert_same(&read, exported, 1e-15, "NetCDF");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -203,10 +205,11 @@ fn the_semicircle_s_exported_coefficients_have_their_known_values() {
     let db = &section.database;
     let (sway, heave) = (index(db, "sway"), index(db, "heave"));
     let unit = RHO * PI; // rho pi R^2 with R = 1 m, kg/m
-                         // Exact limits: sway 2/pi^2, heave 1/2 of rho pi R^2 (to the product's 1e-3).
+                         // Exact limits: sway 2/pi^2 (measured error 1.4e-5), heave 1/2 (8.6e-6) of
+                         // rho pi R^2; tolerances about three times the measured error.
     let inf = &db.added_mass_inf;
-    assert!((inf[(sway, sway)] / unit - 2.0 / (PI * PI)).abs() < 1e-3);
-    assert!((inf[(heave, heave)] / unit - 0.5).abs() < 1e-3);
+    assert!((inf[(sway, sway)] / unit - 2.0 / (PI * PI)).abs() < 4e-5);
+    assert!((inf[(heave, heave)] / unit - 0.5).abs() < 2.5e-5);
     // Ursell's multipole values at kR = 0.5 (index 1) and 1 (index 2): a and b/omega.
     for (k, i, a, b_over_omega) in [
         (1, sway, 0.49664, 0.42561),
@@ -214,9 +217,11 @@ fn the_semicircle_s_exported_coefficients_have_their_known_values() {
         (2, sway, 0.19089, 0.37360),
         (2, heave, 0.30249, 0.19817),
     ] {
+        // Measured: a 3.2e-6 .. 1.3e-5, b/omega 1.1e-6 .. 2.5e-5 (the same solves as
+        // tests/added_mass.rs).
         let z = db.added_mass[k][(i, i)] / unit;
-        assert!((z.re - a).abs() < 1e-3, "a = {} vs {a}", z.re);
-        assert!((-z.im - b_over_omega).abs() < 1e-3, "b/omega {}", -z.im);
+        assert!((z.re - a).abs() < 4e-5, "a = {} vs {a}", z.re);
+        assert!((-z.im - b_over_omega).abs() < 8e-5, "b/omega {}", -z.im);
     }
     let c = &db.stiffness_hydrostatic;
     // Heave restoring rho g B, B = 2 m; the long-wave heave force the same.
@@ -225,14 +230,15 @@ fn the_semicircle_s_exported_coefficients_have_their_known_values() {
     assert!((long_wave[heave] - c[(heave, heave)]).abs() < 1e-6 * c[(heave, heave)]);
     for (k, omega) in db.omega.iter().enumerate() {
         let a = &db.added_mass[k];
-        // Damping B = -omega Im A~: no negative eigenvalue (radiated energy) beyond the
-        // product's accuracy target, 1e-3 of the largest (measured: 2e-4 at kR = 4).
+        // Damping B = -omega Im A~: no negative eigenvalue (radiated energy) beyond 5e-4 of
+        // the largest (measured: 1.5e-4 at kR = 4, below 1e-7 up to kR = 2).
         let b = a.map(|z| -z.im * omega);
         let eigen = b.clone().symmetric_eigen().eigenvalues;
         let largest = eigen.amax();
-        assert!(eigen.min() >= -1e-3 * largest, "{omega}: {eigen}");
+        assert!(eigen.min() >= -5e-4 * largest, "{omega}: {eigen}");
         // 2D Haskind on a symmetric section: |X_j|^2 = rho g^2 B_jj / omega per unit
-        // amplitude, waves from either side.
+        // amplitude, waves from either side (measured: below 4.3e-5 up to kR = 2, 9.5e-4 in
+        // heave at kR = 4).
         for j in [sway, heave] {
             let expected = G * (RHO * b[(j, j)] / omega).sqrt();
             for h in 0..2 {

@@ -9,7 +9,7 @@ Run (from the repository root, with the .venv of tests/python/requirements.txt):
 The FMU examples/cosim/fmus/Semicircle9.fmu is packed on first use with
 `cargo run --release -p fmu-pack -- pack semicircle -o ...` (all nine DOFs, default fit).
 
-Structure (per metre of hull, SI; the seed paper's setup of section 2, with numbers chosen here):
+Structure (per metre of hull, SI; Schilder et al.'s setup of section 2 (docs/DESIGN.md), with numbers chosen here):
 
 * the submerged semicircle R = 1 m is a thin-walled, homogeneous, prismatic steel shell
   (thickness t = 10 mm, E = 210 GPa, nu = 0.3, 7850 kg/m3): an inextensible thin circular beam

@@ -3,7 +3,7 @@
 A linear structure with generalized coordinates ``p`` (mass ``M_s``, damping ``C_s``,
 stiffness ``K_s``) moves the hull; the hull's FMU coordinates are ``q = T p`` (``T``: the map
 from structure coordinates to the FMU's DOFs ``velocity.<dof>``). The FMU returns the force on
-the hull by the water without ``-A_inf q''`` (DESIGN.md); generalized on the structure it is
+the hull by the water without ``-A_inf q''`` (docs/DESIGN.md); generalized on the structure it is
 ``T^T F``.
 
 Co-simulation master (the same scheme under fmpy and libcosimpy, Jacobi, zero-order hold):
@@ -104,7 +104,7 @@ def _header_and_rows(text: str):
 
 def sweep_coefficients(hull_args: list[str], kr_grid: str, rho: float = RHO, g: float = G) -> list[Coefficients]:
     """`fmu-pack sweep HULL_ARGS --kr KR_GRID --excitation` (the panel method's own values at
-    each kR of the grid, `lo:hi:n` log-spaced), read into SI: A~ = value rho pi R^2 (DESIGN.md,
+    each kR of the grid, `lo:hi:n` log-spaced), read into SI: A~ = value rho pi R^2 (docs/DESIGN.md,
     as `FrequencyResponse::from_sweep`), X = value rho g R^(1 + e_j) (docs/WAVES.md; e_j the
     DOF's length exponent)."""
     with tempfile.TemporaryDirectory() as tmp:

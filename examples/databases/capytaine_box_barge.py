@@ -10,13 +10,13 @@ Writes, into OUTDIR:
   (tests/python/test_database_capytaine.py), in CAPYTAINE's convention (see below).
 
 The barge: a rectangular box L x B x T = 40 m x 10 m x 3 m (length along x, beam along y, draft),
-deep water, rho = 1025 kg/m^3, g = 9.81 m/s^2. Ship axes as docs (DESIGN.md): x forward, y to
+deep water, rho = 1025 kg/m^3, g = 9.81 m/s^2. Ship axes as docs/DESIGN.md: x forward, y to
 port, z up, origin on the mean free surface at midship on the centre line. 6 rigid DOFs, in the
 order Surge, Sway, Heave, Roll, Pitch, Yaw (Capytaine's names; the FMU's `surge` .. `yaw`),
 rotations about the ORIGIN (0, 0, 0) on the free surface: every moment in the files and in the
 FMU is about that point. The centre of gravity is put there too, with the mass of the displaced
 water, so that the gravity term `-m g z_G` of the roll and pitch restoring vanishes and the .hst
-holds the buoyancy part alone (DESIGN.md: the weight's own restoring belongs to the master); GM
+holds the buoyancy part alone (docs/DESIGN.md: the weight's own restoring belongs to the master); GM
 is then KB + BM - KG = 1.5 + 2.78 - 3 = 1.28 m (a draft of 4 m would leave GM = 0.08 m).
 
 Frequencies: omega = 0, 0.2, 0.3, ..., 2.5 rad/s and infinity (radiation at omega = 0 and inf
@@ -39,7 +39,7 @@ restoring 3.4 % low on the coarse mesh (it integrates y^2 over the waterplane by
 centres, and C44 is a difference of two large terms).
 
 Conventions. Capytaine: exp(-i omega t), real added mass a and damping b, complex exciting force
-X_c per unit wave amplitude. Ours (DESIGN.md): exp(+i omega t), A~ = a - i b / omega, X = conj(X_c).
+X_c per unit wave amplitude. Ours (docs/DESIGN.md): exp(+i omega t), A~ = a - i b / omega, X = conj(X_c).
 The files follow WAMIT: .1 holds a / (rho L^k) and b / (omega rho L^k), .3 holds conj(X_c) /
 (rho g L^m) (modulus, phase in degrees, re, im), .hst C / (rho g L^k), with L = 1 m (Capytaine's
 export takes no length scale), k = 3, 4, 5 and m = 2, 3 for forces and moments.

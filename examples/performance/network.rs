@@ -1,6 +1,6 @@
 //! The time-domain half of the performance report: network order against fit error and
 //! step cost, communication step against coupling error and wall time (reference: the
-//! monolithic seed eq. 19 system), the scene-reduced FMU, and the network against a direct
+//! monolithic system of Schilder et al.'s eq. 19), the scene-reduced FMU, and the network against a direct
 //! convolution.
 
 use fmu_pack::convolution::ConvolutionForce;
@@ -15,6 +15,8 @@ use hydrofmu::sweep::{self, SweepParams};
 use nalgebra::{DMatrix, DVector};
 use std::fmt::Write as _;
 use std::time::Instant;
+
+use super::report::Output;
 
 const RHO: f64 = 1025.0;
 const G: f64 = 9.81;
@@ -184,7 +186,7 @@ fn max_difference(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Writes the sections; `command` goes into the figure captions.
-pub fn sections(doc: &mut String, threads: usize, command: &str) {
+pub fn sections(out: &Output, doc: &mut String, threads: usize, command: &str) {
     eprintln!("semicircle sweep for the network sections ...");
     let hull = Hull::semicircle(1.0).expect("semicircle");
     let params = SweepParams {
@@ -340,7 +342,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
         Style::Dashed,
     );
     figure.caption = plot::provenance(command);
-    std::fs::write("docs/figures/performance-order.svg", figure.to_svg()).expect("write");
+    out.write_figure("performance-order", &figure.to_svg());
     let _ = writeln!(doc, "\n![order](figures/performance-order.svg)\n");
 
     // --- The identification against the peers (issue table, re-measured).
@@ -417,7 +419,7 @@ pub fn sections(doc: &mut String, threads: usize, command: &str) {
     figure.add("zero-order hold", zoh_curve, Style::Line);
     figure.add("first-order hold (derivatives)", foh_curve, Style::Line);
     figure.caption = plot::provenance(command);
-    std::fs::write("docs/figures/performance-coupling.svg", figure.to_svg()).expect("write");
+    out.write_figure("performance-coupling", &figure.to_svg());
     let _ = writeln!(doc, "![coupling](figures/performance-coupling.svg)\n");
 
     // --- Scene-driven: sway only in a narrow band against the full 9-DOF default.

@@ -2,7 +2,11 @@
 //!
 //! Not on any simulation path. A [`Figure`] holds axes with linear or logarithmic scales,
 //! line and marker series, and a legend; [`Figure::to_svg`] renders it as a standalone SVG
-//! document.
+//! document. Markers are drawn first and lines over them, so a fitted curve stays visible
+//! over dense data. Tick labels are short: linear ticks at 1, 2 or 5 times a power of ten,
+//! printed with the step's decimals, or as `2e6` / `5e-4` outside 1e-3 .. 1e4; log axes tick
+//! every decade, with 2 and 5 between when the axis spans two decades or less, and every
+//! other decade beyond eight. Axis labels carry their units (`omega (rad/s)`, `A~ (kg)`).
 
 use hydrofmu::xml::escape;
 use std::fmt::Write as _;
@@ -53,7 +57,7 @@ pub struct Figure {
     pub x_scale: Scale,
     /// Scale of the y axis.
     pub y_scale: Scale,
-    /// The series, drawn in order.
+    /// The series: markers first, then lines and dashed lines, each kind in order.
     pub series: Vec<Series>,
     /// A footnote under the plot (command, machine, date).
     pub caption: String,
@@ -171,7 +175,7 @@ impl Figure {
                 r##"<line x1="{x:.1}" y1="{TOP}" x2="{x:.1}" y2="{:.1}" stroke="#e0e0e0"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
                 TOP + plot_h,
                 TOP + plot_h + 14.0,
-                label(t, self.x_scale)
+                label(t, self.x_scale, &x_ticks)
             );
         }
         for &t in &y_ticks {
@@ -185,7 +189,7 @@ impl Figure {
                 LEFT + plot_w,
                 LEFT - 4.0,
                 y + 4.0,
-                label(t, self.y_scale)
+                label(t, self.y_scale, &y_ticks)
             );
         }
         let _ = writeln!(
@@ -205,7 +209,11 @@ impl Figure {
             TOP + plot_h / 2.0,
             escape(&self.y_label)
         );
-        for (series, points) in self.series.iter().zip(&data) {
+        let markers_first =
+            |(series, _): &(&Series, &Vec<(f64, f64)>)| series.style != Style::Markers;
+        let mut drawn: Vec<(&Series, &Vec<(f64, f64)>)> = self.series.iter().zip(&data).collect();
+        drawn.sort_by_key(markers_first);
+        for (series, points) in drawn {
             let colour = PALETTE[series.colour % PALETTE.len()];
             match series.style {
                 Style::Line | Style::Dashed => {
@@ -282,7 +290,19 @@ impl Figure {
 fn ticks(lo: f64, hi: f64, scale: Scale) -> Vec<f64> {
     if scale == Scale::Log {
         let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
-        return (a..=b).map(f64::from).collect();
+        let decades = b - a;
+        let every = if decades > 8 { 2 } else { 1 };
+        let mut out: Vec<f64> = (a..=b)
+            .filter(|d| (d - a) % every == 0)
+            .map(f64::from)
+            .collect();
+        if decades <= 2 {
+            out = (a..=b)
+                .flat_map(|d| [1.0f64, 2.0, 5.0].map(|m| f64::from(d) + m.log10()))
+                .filter(|&t| t <= f64::from(b))
+                .collect();
+        }
+        return out;
     }
     let span = hi - lo;
     let raw = span / 6.0;
@@ -298,20 +318,50 @@ fn ticks(lo: f64, hi: f64, scale: Scale) -> Vec<f64> {
         .collect()
 }
 
-fn label(t: f64, scale: Scale) -> String {
+/// The label of tick `t` (transformed coordinates) among `ticks`.
+fn label(t: f64, scale: Scale, ticks: &[f64]) -> String {
     match scale {
         Scale::Log => {
             let v = 10f64.powf(t);
-            if (1e-3..1e4).contains(&v) {
-                format!("{}", (v * 1e3).round() / 1e3)
-            } else {
-                format!("1e{}", t.round() as i32)
-            }
+            // One significant digit: ticks sit at 1, 2 or 5 times a power of ten.
+            number(v, 10f64.powf(t.floor()))
         }
         Scale::Linear => {
-            let r = (t * 1e9).round() / 1e9;
-            format!("{r}")
+            let step = ticks.windows(2).map(|w| w[1] - w[0]).next().unwrap_or(1.0);
+            number(t, step.abs())
         }
+    }
+}
+
+/// `v` printed to the decimals of `step` (`0.25`, `1500`), or in exponent form (`2e6`,
+/// `-1.5e-4`) when its size is outside 1e-3 .. 1e4.
+fn number(v: f64, step: f64) -> String {
+    let step = if step > 0.0 && step.is_finite() {
+        step
+    } else {
+        1.0
+    };
+    let v = (v / step).round() * step;
+    if v == 0.0 {
+        return "0".into();
+    }
+    let step_exponent = step.log10().floor() as i32;
+    if (1e-3..1e4).contains(&v.abs()) {
+        let decimals = (-step_exponent).max(0) as usize;
+        return format!("{v:.decimals$}");
+    }
+    let exponent = v.abs().log10().floor() as i32;
+    let digits = (exponent - step_exponent).max(0) as usize;
+    let text = format!("{v:.digits$e}");
+    // 2.0e6 -> 2e6: no trailing zeros in the mantissa.
+    match text.split_once('e') {
+        Some((mantissa, power)) if mantissa.contains('.') => {
+            format!(
+                "{}e{power}",
+                mantissa.trim_end_matches('0').trim_end_matches('.')
+            )
+        }
+        _ => text,
     }
 }
 
@@ -377,6 +427,32 @@ mod tests {
         assert_eq!(date.len(), 10);
         let year: i32 = date[..4].parse().unwrap();
         assert!(year >= 2024, "{date}");
+    }
+
+    #[test]
+    fn lines_are_drawn_over_markers_and_labels_are_short() {
+        let mut figure = Figure::new("fit", "omega (rad/s)", "A~ (kg)");
+        figure.x_scale = Scale::Log;
+        figure.add("network", vec![(0.2, -1e6), (2.5, 3e6)], Style::Line);
+        figure.add("data", vec![(0.3, 1e6), (2.0, 2e6)], Style::Markers);
+        let svg = figure.to_svg();
+        let (circle, line) = (svg.find("<circle").unwrap(), svg.find("<polyline").unwrap());
+        assert!(circle < line, "the line is drawn first");
+        // 0.2 .. 2.5 rad/s: ticks at 0.2, 0.5, 1 and 2, not just 1.
+        for tick in [">0.2<", ">0.5<", ">1<", ">2<"] {
+            assert!(svg.contains(tick), "{tick} missing");
+        }
+        assert!(svg.contains(">2e6<") && svg.contains(">-1e6<"), "{svg}");
+        assert!(!svg.contains("000000"), "{svg}");
+    }
+
+    #[test]
+    fn numbers_keep_the_step_s_decimals() {
+        assert_eq!(number(0.30000000000000004, 0.1), "0.3");
+        assert_eq!(number(1500.0, 500.0), "1500");
+        assert_eq!(number(-1.5e-4, 5e-5), "-1.5e-4");
+        assert_eq!(number(2_000_000.0, 1e6), "2e6");
+        assert_eq!(number(0.0, 0.2), "0");
     }
 
     #[test]

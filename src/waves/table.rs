@@ -1,4 +1,4 @@
-//! The excitation table written by `fmu-pack sweep HULL --excitation FILE` (DESIGN.md), read
+//! The excitation table written by `fmu-pack sweep HULL --excitation FILE` (docs/DESIGN.md), read
 //! by a strict, bounded parser, and its interpolation in `kR`.
 //!
 //! ```text
