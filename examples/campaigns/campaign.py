@@ -12,7 +12,7 @@ or given with --fmu NAME=PATH): the 100 m barge (examples/ships/barge.xml) and t
 ship (examples/ships/wigley.xml), both `fmu-pack pack SHIP --dofs heave,pitch` (headings 0, 45,
 90, 135, 180). Each case is one fmpy simulation of the FMU alone, hull held fixed, in a JONSWAP
 sea (examples/campaigns/hydrocampaign.py). Writes the table (one row per case x DOF; default
-examples/campaigns/out/campaign.csv) and, in the full run, docs/figures/campaign.svg.
+examples/campaigns/out/campaign.csv) and, in the full run, target/reports/figures/campaign.svg (docs/figures/ with --update-docs).
 """
 from __future__ import annotations
 
@@ -61,7 +61,9 @@ def parse(argv=None):
     p.add_argument("--serial", action="store_true", help="also run the cases serially here; compare and time")
     p.add_argument("--csv", type=pathlib.Path, default=HERE / "out" / "campaign.csv")
     p.add_argument("--verbose", action="store_true", help="print every row")
-    p.add_argument("--figure", type=pathlib.Path, help="default docs/figures/campaign.svg in the full run")
+    p.add_argument("--figure", type=pathlib.Path,
+                   help="default target/reports/figures/campaign.svg in the full run (docs/figures/ with --update-docs)")
+    p.add_argument("--update-docs", action="store_true", help="write the full run's figure into the tracked docs/figures")
     return p.parse_args(argv)
 
 
@@ -151,8 +153,10 @@ def main(argv=None):
         print(f"  {r['hull']:7s} {r['dof']:6s} Tp {r['tp']:5.1f} head {r['heading']:5.1f}: 4 std {r['significant']:11.4g}, "
               f"max {r['max']:11.4g}, min {r['min']:11.4g}, Tz {r['tz']:5.2f} s (spectral {r['spectral_tz']:5.2f}), "
               f"std/spectral {r['ratio']:.4f}" + ("" if math.isfinite(r["gaussian_scatter"]) else " (no spectral value)"))
-    figure = args.figure or (None if args.quick else ROOT / "docs" / "figures" / "campaign.svg")
+    figures = ROOT / "docs" / "figures" if args.update_docs else ROOT / "target" / "reports" / "figures"
+    figure = args.figure or (None if args.quick else figures / "campaign.svg")
     if figure:
+        figure.parent.mkdir(parents=True, exist_ok=True)
         hc.plot(rows, figure)
         print(f"figure: {figure}")
     return rows

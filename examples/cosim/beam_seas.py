@@ -4,7 +4,7 @@ under fmpy and libcosimpy against the frequency-domain response (RAO) of the sam
 
 Run (from the repository root, with the .venv of tests/python/requirements.txt):
 
-    .venv/bin/python examples/cosim/beam_seas.py            # 9 wave periods, writes docs/figures/cosim-beam-seas.svg
+    .venv/bin/python examples/cosim/beam_seas.py            # 9 wave periods, writes target/reports/figures/cosim-beam-seas.svg (--update-docs: docs/figures/)
     .venv/bin/python examples/cosim/beam_seas.py --quick    # 2 wave periods, no figure (what the test runs)
 
 FMUs, packed on first use into examples/cosim/fmus/: SemicircleRigid.fmu
@@ -294,7 +294,9 @@ def main(argv=None) -> int:
     parser.add_argument("--fmu-rigid", help="the sway/heave/roll FMU (default: fmus/SemicircleRigid.fmu)")
     parser.add_argument("--fmu-elastic", help="the 9-DOF FMU (default: fmus/Semicircle9.fmu)")
     parser.add_argument("--json", help="also write the results to this JSON file")
+    hc.add_update_docs(parser)
     args = parser.parse_args(argv)
+    hc.apply_update_docs(args)
     result = run(args.quick, {"rigid": args.fmu_rigid, "elastic": args.fmu_elastic})
     print(report(result))
     if args.json:

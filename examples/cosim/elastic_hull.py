@@ -3,7 +3,7 @@ full 9-DOF semicircle FMU (sway heave roll cb1..cb6). Shows the hydro-elastic ef
 
 Run (from the repository root, with the .venv of tests/python/requirements.txt):
 
-    .venv/bin/python examples/cosim/elastic_hull.py            # full run, writes docs/figures/cosim-elastic.svg
+    .venv/bin/python examples/cosim/elastic_hull.py            # full run, writes target/reports/figures/cosim-elastic.svg (--update-docs: docs/figures/)
     .venv/bin/python examples/cosim/elastic_hull.py --quick    # short run, no figure (what the test runs)
 
 The FMU examples/cosim/fmus/Semicircle9.fmu is packed on first use with
@@ -384,7 +384,9 @@ def main(argv=None) -> int:
         "--fmu", help="the 9-DOF FMU (default: examples/cosim/fmus/Semicircle9.fmu, packed if missing)"
     )
     parser.add_argument("--json", help="also write the results to this JSON file")
+    hc.add_update_docs(parser)
     args = parser.parse_args(argv)
+    hc.apply_update_docs(args)
     result = run(args.quick, args.fmu)
     print(report(result))
     if args.json:

@@ -4,7 +4,7 @@ response of the ship's own tables; the wet 2-node bending frequency and its damp
 
 Run (from the repository root, with the .venv of tests/python/requirements.txt):
 
-    .venv/bin/python examples/cosim/flexible_barge.py            # 10 wave frequencies, writes docs/figures/cosim-flexible-barge.svg
+    .venv/bin/python examples/cosim/flexible_barge.py            # 10 wave frequencies, writes target/reports/figures/cosim-flexible-barge.svg (--update-docs: docs/figures/)
     .venv/bin/python examples/cosim/flexible_barge.py --quick    # 3 wave frequencies, shorter decays, no figure (the test)
 
 The FMU examples/cosim/fmus/FlexibleBargeVertical.fmu is packed on first use with
@@ -627,7 +627,9 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="3 wave frequencies, 16 s decays, no figure")
     parser.add_argument("--fmu", help=f"the barge FMU (default: examples/cosim/fmus/{FMU_NAME}.fmu, packed if missing)")
     parser.add_argument("--json", help="also write the results to this JSON file")
+    hc.add_update_docs(parser)
     args = parser.parse_args(argv)
+    hc.apply_update_docs(args)
     result = run(args.quick, args.fmu)
     print(report(result))
     if args.json:

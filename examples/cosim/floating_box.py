@@ -4,7 +4,7 @@ frequency-domain RAOs from Capytaine's own coefficients and from the FMU's netwo
 
 Run (from the repository root, with the .venv of tests/python/requirements.txt):
 
-    .venv/bin/python examples/cosim/floating_box.py            # 2 headings x 9 frequencies, writes docs/figures/cosim-floating-box.svg
+    .venv/bin/python examples/cosim/floating_box.py            # 2 headings x 9 frequencies, writes target/reports/figures/cosim-floating-box.svg (--update-docs: docs/figures/)
     .venv/bin/python examples/cosim/floating_box.py --quick    # head seas, 3 frequencies, no figure (the test)
 
 The database: examples/databases/capytaine_box_barge.py (Capytaine 3.0, coarse mesh, about 15 s;
@@ -370,7 +370,9 @@ def main(argv=None) -> int:
     parser.add_argument("--fmu", help=f"the box FMU (default: examples/cosim/fmus/{FMU_NAME}.fmu, packed if missing)")
     parser.add_argument("--step", type=float, default=STEP, help="communication step (s)")
     parser.add_argument("--json", help="also write the results to this JSON file")
+    hc.add_update_docs(parser)
     args = parser.parse_args(argv)
+    hc.apply_update_docs(args)
     result = run(args.quick, args.database, args.fmu, step=args.step)
     print(report(result))
     if args.json:

@@ -41,7 +41,10 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU_DIR = pathlib.Path(os.environ.get("HYDROFMU_COSIM_FMUS", ROOT / "examples" / "cosim" / "fmus"))
-FIGURES = ROOT / "docs" / "figures"
+# Figures go to target/reports/figures; `--update-docs` (or HYDROFMU_UPDATE_DOCS=1) writes the
+# tracked docs/figures instead.
+DOC_FIGURES = ROOT / "docs" / "figures"
+FIGURES = DOC_FIGURES if os.environ.get("HYDROFMU_UPDATE_DOCS") == "1" else ROOT / "target" / "reports" / "figures"
 
 RHO = 1025.0  # water density, kg/m3
 G = 9.81  # gravity, m/s2
@@ -595,6 +598,19 @@ def provenance() -> str:
     cpus = os.cpu_count() or 1
     machine = f"{platform.processor() or platform.machine()} ({cpus} cores)"
     return f"{command} on {machine}, {datetime.date.today().isoformat()}"
+
+
+def add_update_docs(parser) -> None:
+    """Adds ``--update-docs`` to an example's command line (see :func:`apply_update_docs`)."""
+    parser.add_argument("--update-docs", action="store_true",
+                        help="write the figure into docs/figures (default: target/reports/figures)")
+
+
+def apply_update_docs(args) -> None:
+    """Sends the figures to the tracked docs/figures when ``args.update_docs`` is set."""
+    global FIGURES
+    if getattr(args, "update_docs", False):
+        FIGURES = DOC_FIGURES
 
 
 def save_svg(fig, name: str) -> pathlib.Path:

@@ -3,7 +3,7 @@
 Run (from the repository root, after `bash tests/run.sh` or with the .venv of
 tests/python/requirements.txt):
 
-    .venv/bin/python examples/cosim/rigid_sway.py            # full run, writes docs/figures/cosim-rigid-sway.svg
+    .venv/bin/python examples/cosim/rigid_sway.py            # full run, writes target/reports/figures/cosim-rigid-sway.svg (--update-docs: docs/figures/)
     .venv/bin/python examples/cosim/rigid_sway.py --quick    # short run, no figure (what the test runs)
 
 The FMU examples/cosim/fmus/SemicircleSway.fmu is packed on first use with
@@ -175,7 +175,9 @@ def main(argv=None) -> int:
         "--fmu", help="the sway FMU (default: examples/cosim/fmus/SemicircleSway.fmu, packed if missing)"
     )
     parser.add_argument("--json", help="also write the results to this JSON file")
+    hc.add_update_docs(parser)
     args = parser.parse_args(argv)
+    hc.apply_update_docs(args)
     result = run(args.quick, args.fmu)
     print(report(result))
     if args.json:

@@ -25,7 +25,7 @@ agree (0 = waves towards +x, 180 head seas, 90 towards +y).
 Run (from the repository root, with the .venv of tests/python/requirements.txt and the release
 fmu-pack built):
 
-    .venv/bin/python examples/ships/compare_capytaine.py             # table, docs/figures/ship-capytaine.svg
+    .venv/bin/python examples/ships/compare_capytaine.py             # table, target/reports/figures/ship-capytaine.svg (docs/figures/ with --update-docs)
     .venv/bin/python examples/ships/compare_capytaine.py --no-plot   # table only
 
 tests/python/test_ship_capytaine.py runs a reduced version (a few frequencies, the coarse mesh)
@@ -44,7 +44,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SHIP = ROOT / "examples" / "ships" / "box_barge.xml"
-FIGURE = ROOT / "docs" / "figures" / "ship-capytaine.svg"
+FIGURE = ROOT / "target" / "reports" / "figures" / "ship-capytaine.svg"  # --update-docs: docs/figures/
 RHO, G = 1025.0, 9.81
 L, B, T = 100.0, 10.0, 5.0
 DOFS = ["heave", "pitch", "vb1"]
@@ -295,13 +295,16 @@ def main():
     parser.add_argument("--omega", default="0.2:1.8:16", help="MIN:MAX:COUNT, log-spaced")
     parser.add_argument("--coarse", action="store_true", help="the test's coarse Capytaine mesh")
     parser.add_argument("--no-plot", action="store_true")
+    parser.add_argument("--update-docs", action="store_true", help="write the figure into the tracked docs/figures")
     args = parser.parse_args()
     lo, hi, n = args.omega.split(":")
     r = compare(args.fmu_pack, (float(lo), float(hi), int(n)),
                 resolution=COARSE if args.coarse else FINE)
     report(r)
     if not args.no_plot:
-        print("wrote", plot(r).relative_to(ROOT))
+        path = ROOT / "docs" / "figures" / FIGURE.name if args.update_docs else FIGURE
+        path.parent.mkdir(parents=True, exist_ok=True)
+        print("wrote", plot(r, path).relative_to(ROOT))
 
 
 if __name__ == "__main__":
