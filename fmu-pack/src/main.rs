@@ -16,12 +16,10 @@ mod body;
 mod database_cmd;
 mod fit_cmd;
 mod hull_arg;
-mod osp;
 mod output;
 mod pack;
 mod pipeline;
 mod progress;
-mod scene;
 mod ship_cmd;
 mod sweep_cmd;
 
