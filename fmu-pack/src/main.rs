@@ -108,3 +108,32 @@ fn main() -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn pack_help_names_every_input_kind_and_the_order() {
+        let mut cli = Cli::command();
+        let help = cli
+            .find_subcommand_mut("pack")
+            .unwrap()
+            .render_long_help()
+            .to_string();
+        for words in [
+            "semicircle",
+            "circle",
+            "hull file",
+            "ship file",
+            "NAME.1",
+            "NetCDF-3",
+            "NAME.nc",
+            "--order",
+            "poles per invariant block",
+        ] {
+            assert!(help.contains(words), "{words} missing from:\n{help}");
+        }
+    }
+}

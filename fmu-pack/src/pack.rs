@@ -60,7 +60,9 @@ pub struct PackArgs {
     /// archive's scene report say 'NOT met').
     #[arg(long)]
     pub allow_tolerance_miss: bool,
-    /// Network order.
+    /// Network order, fixed instead of the lowest that meets --tol: for one DOF's series
+    /// chain its auxiliary DOFs; for the coupled network the poles per invariant block (a
+    /// complex pair counted twice).
     #[arg(long)]
     pub order: Option<usize>,
     /// Largest communication step the master will use, in s: the band is cut at its
