@@ -11,7 +11,7 @@
 //!
 //! [`archive`] packs them, with a network, a binary and the documentation, into the `.fmu`
 //! zip ([`Archive`]), with the OSP model description of [`osp`] inside and beside it;
-//! [`inspect`] reads an archive back.
+//! [`inspect()`] reads an archive back.
 
 pub mod archive;
 pub mod description;
