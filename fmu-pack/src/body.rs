@@ -3,11 +3,11 @@
 
 use crate::output;
 use crate::pack::{locate_binary, pack_network, PackArgs, PackError, PackSummary, PackedNetwork};
-use crate::pipeline::{self, HullInfo};
+use crate::pipeline;
 use crate::sweep_cmd::SweepArgs;
 use hydrofmu::database::wamit::WamitFiles;
 use hydrofmu::database::Database;
-use hydrofmu::fmu::Extent;
+use hydrofmu::fmu::Body;
 use hydrofmu::identify::{self, FitParams, FitReport};
 use hydrofmu::scene::Band;
 use hydrofmu::xml::{format_number, Notation};
@@ -270,28 +270,7 @@ pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError>
              narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
         )));
     }
-    let db = &fitted.database;
-    let excitation_csv = if db.excitation.is_empty() {
-        None
-    } else {
-        let mut excitation = Vec::new();
-        db.write_excitation_table(&mut excitation)
-            .map_err(|e| format!("cannot format the excitation table: {e}"))?;
-        Some(String::from_utf8_lossy(&excitation).into_owned())
-    };
-    let mut name = db.name.clone();
-    if let Some(first) = name.get_mut(0..1) {
-        first.make_ascii_uppercase();
-    }
-    let body = HullInfo {
-        name,
-        dofs: db.dof_units.clone(),
-        xml: None,
-        extent: Extent::WholeBody,
-        hydrostatics_csv: Some(db.hydrostatics_table().to_csv(&db.name, "whole body")),
-        excitation_csv,
-        report: Some(text.clone()),
-    };
+    let body = Body::whole(&fitted.database, Some(text.clone()))?;
     let binary = locate_binary(args.binary.as_deref())?;
     let identifier = match &args.model_identifier {
         Some(id) => id.clone(),
@@ -304,7 +283,7 @@ pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError>
         output: &args.output,
         fmi: args.fmi,
     };
-    let mut summary = pack_network(&body, &network, args.keep_inf_mass, &target, None)?;
+    let mut summary = pack_network(body, network, args.keep_inf_mass, &target, None)?;
     summary.fit = Some(text.replace('\n', "; "));
     Ok(summary)
 }

@@ -16,12 +16,10 @@ mod body;
 mod database_cmd;
 mod fit_cmd;
 mod hull_arg;
-mod osp;
 mod output;
 mod pack;
 mod pipeline;
 mod progress;
-mod scene;
 mod ship_cmd;
 mod sweep_cmd;
 
@@ -107,6 +105,35 @@ fn main() -> ExitCode {
         Err(message) => {
             output::stderr_line(&format!("fmu-pack: error: {message}"));
             ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn pack_help_names_every_input_kind_and_the_order() {
+        let mut cli = Cli::command();
+        let help = cli
+            .find_subcommand_mut("pack")
+            .unwrap()
+            .render_long_help()
+            .to_string();
+        for words in [
+            "semicircle",
+            "circle",
+            "hull file",
+            "ship file",
+            "NAME.1",
+            "NetCDF-3",
+            "NAME.nc",
+            "--order",
+            "poles per invariant block",
+        ] {
+            assert!(help.contains(words), "{words} missing from:\n{help}");
         }
     }
 }

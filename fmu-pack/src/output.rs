@@ -30,19 +30,40 @@ pub fn stderr_line(line: &str) {
     let _ = err.flush();
 }
 
-/// Checks, before any work, that the folder `path` goes in exists (`-`, standard output, and a
-/// bare file name always pass): a missing folder is an error naming the file.
+/// Checks, before any work, that the folder `path` goes in exists and takes a new file (`-`,
+/// standard output, and an existing target that is not a regular file, a device, always pass):
+/// a missing folder, or one that is read-only or otherwise refuses a file, is an error naming
+/// the file. The test writes and removes an empty file in the folder.
 pub fn check_folder(path: &Path) -> Result<(), String> {
-    if path.as_os_str() == "-" {
+    if path.as_os_str() == "-" || std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
         return Ok(());
     }
-    match path.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => Err(format!(
+    let folder = match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(format!(
             "cannot write {}: the folder {} does not exist",
             path.display(),
             folder.display()
+        ));
+    }
+    let probe = folder.join(format!(".fmu-pack-probe-{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(format!(
+            "cannot write {}: the folder {} takes no new file ({e})",
+            path.display(),
+            folder.display()
         )),
-        _ => Ok(()),
     }
 }
 
@@ -185,5 +206,34 @@ impl Staged {
             .and_then(|file| file.sync_all())
             .and_then(|()| std::fs::rename(&self.temporary, &self.target))
             .map_err(|e| format!("cannot write {}: {e}", self.target.display()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_output_is_refused_before_the_work_where_it_cannot_go() {
+        let e = check_folder(Path::new("/nonexistent-folder/x.fmu")).unwrap_err();
+        assert!(
+            e.ends_with("the folder /nonexistent-folder does not exist"),
+            "{e}"
+        );
+        // sysfs takes no new file, not even from root.
+        let e = check_folder(Path::new("/sys/x.fmu")).unwrap_err();
+        assert!(
+            e.starts_with("cannot write /sys/x.fmu: the folder /sys takes no new file"),
+            "{e}"
+        );
+        for fine in ["-", "/dev/null"] {
+            assert_eq!(check_folder(Path::new(fine)), Ok(()), "{fine}");
+        }
+        let dir = std::env::temp_dir().join(format!("fmu-pack-folder-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(check_folder(&dir.join("x.fmu")), Ok(()));
+        // The probe leaves nothing behind.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,34 +1,16 @@
-//! `fmu-pack pack` and `fmu-pack inspect`: one `.fmu` archive per hull.
-//!
-//! Archive layout (zip, deflate, forward slashes, no links, no zip64):
-//!
-//! ```text
-//! modelDescription.xml
-//! binaries/linux64/<modelIdentifier>.so    copy of the hydrofmu cdylib (FMI 2.0)
-//! binaries/x86_64-linux/<modelIdentifier>.so  the same library (FMI 3.0, `--fmi 3`)
-//! resources/network.xml                    the equivalent network
-//! resources/options.xml                    flags (keep_inf_mass)
-//! resources/hull.xml                       when the hull is known
-//! documentation/index.html                 summary
-//! ```
-//!
-//! The GUID is derived from the resources ([`hydrofmu::model::Resources::guid`]), so two
-//! hulls (or two networks, or two flag sets) never share one, and the FMU checks it at
-//! instantiation.
+//! `fmu-pack pack` and `fmu-pack inspect`: one `.fmu` archive per hull, made by
+//! [`hydrofmu::fmu::Archive`] (its layout and GUID are documented there) and read back by
+//! [`hydrofmu::fmu::inspect`]. This module turns the command line into the library's calls,
+//! finds the binary, and writes the archive and the OSP description beside it together.
 
-use crate::pipeline::{self, Built, HullInfo};
-use crate::scene::SceneText;
+use crate::pipeline::{self, Built};
 use crate::sweep_cmd::HullSweepArgs;
-use hydrofmu::fmu::description::FIXED_XML;
-use hydrofmu::fmu::{DescriptionInfo, Extent, Layout, Resources};
-use hydrofmu::model::{Model, ModelOptions};
-use hydrofmu::network::Network;
+use hydrofmu::fmu::{self, osp, Archive, ArchiveError, Body, SceneDocumentation};
 use hydrofmu::scene::{Band, Scene, SceneReport};
-use hydrofmu::sweep::ExcitationPart;
-use hydrofmu::xml::escape;
 use std::fmt;
-use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+
+pub use hydrofmu::fmu::{identifier_from_path, PackedNetwork};
 
 /// Why packing or inspecting failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -54,6 +36,12 @@ impl From<&str> for PackError {
     }
 }
 
+impl From<ArchiveError> for PackError {
+    fn from(e: ArchiveError) -> Self {
+        PackError(e.0)
+    }
+}
+
 /// Arguments of `fmu-pack pack`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PackArgs {
@@ -72,7 +60,9 @@ pub struct PackArgs {
     /// archive's scene report say 'NOT met').
     #[arg(long)]
     pub allow_tolerance_miss: bool,
-    /// Network order.
+    /// Network order, fixed instead of the lowest that meets --tol: for one DOF's series
+    /// chain its auxiliary DOFs; for the coupled network the poles per invariant block (a
+    /// complex pair counted twice).
     #[arg(long)]
     pub order: Option<usize>,
     /// Largest communication step the master will use, in s: the band is cut at its
@@ -113,6 +103,15 @@ pub enum FmiVersion {
     V3,
 }
 
+impl From<FmiVersion> for fmu::FmiVersion {
+    fn from(version: FmiVersion) -> Self {
+        match version {
+            FmiVersion::V2 => fmu::FmiVersion::V2,
+            FmiVersion::V3 => fmu::FmiVersion::V3,
+        }
+    }
+}
+
 /// Where and how an archive is written.
 #[derive(Clone, Copy, Debug)]
 pub struct Target<'a> {
@@ -144,8 +143,7 @@ pub struct PackSummary {
     pub guid: String,
     /// DOF names.
     pub dofs: Vec<String>,
-    /// Network states: the length of the network's state vector (see
-    /// [`Model::network_states`]).
+    /// Network states: the length of the network's state vector.
     pub states: usize,
     /// Whether A_inf is kept inside.
     pub keep_inf_mass: bool,
@@ -208,7 +206,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         return crate::database_cmd::pack(args);
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
-    let hull = HullInfo::new(&resolved);
+    let hull = Body::section(&resolved);
     let mut report = None;
     let network = match &args.network {
         Some(path) => {
@@ -274,13 +272,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         output: &args.output,
         fmi: args.fmi,
     };
-    pack_network(
-        &hull,
-        &network,
-        args.keep_inf_mass,
-        &target,
-        report.as_ref(),
-    )
+    pack_network(hull, network, args.keep_inf_mass, &target, report.as_ref())
 }
 
 /// Why a fit that misses its tolerance is not packed, and what to do.
@@ -299,51 +291,13 @@ fn tolerance_missed(built: &Built) -> String {
     )
 }
 
-/// The network to pack and the text of its `resources/network.xml`.
-pub struct PackedNetwork {
-    network: Network,
-    xml: String,
-}
-
-impl PackedNetwork {
-    /// A network file's text, parsed once and packed verbatim (`source` names it in errors).
-    pub fn from_text(xml: String, source: &str) -> Result<PackedNetwork, PackError> {
-        let network = Network::from_xml_str(&xml, source).map_err(|e| e.to_string())?;
-        Ok(PackedNetwork { network, xml })
-    }
-
-    /// A computed network, packed in its canonical text.
-    pub fn from_network(network: Network) -> PackedNetwork {
-        let xml = network.to_xml_string();
-        PackedNetwork { network, xml }
-    }
-}
-
-/// The scene report inside the archive (plain text; `fmu-pack inspect` prints it).
-pub const SCENE_FILE: &str = "documentation/scene.txt";
-/// Largest FMU library accepted (256 MiB; the release build is under 1 MB, a debug build 17 MB).
-const MAX_BINARY_BYTES: u64 = 256 << 20;
-
-/// A modelIdentifier from a file name: letters, digits and `_`, starting with a letter.
-pub fn identifier_from_path(path: &Path) -> String {
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut id: String = stem
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect();
-    if !id.starts_with(|c: char| c.is_ascii_alphabetic()) {
-        id.insert_str(0, "hydrofmu_");
-    }
-    id
-}
-
-/// Packs a network for a hull into `output` (the lower-level entry point).
+/// Packs a network for a body into `target.output` (the lower-level entry point): the
+/// section's exciting force from the fit's sweep, the scene report, the fit report and its
+/// figures when a scene computed the network; the archive and its OSP description written
+/// together, or neither.
 pub fn pack_network(
-    hull: &HullInfo,
-    network: &PackedNetwork,
+    body: Body,
+    network: PackedNetwork,
     keep_inf_mass: bool,
     target: &Target,
     fit: Option<&Fitted>,
@@ -354,180 +308,48 @@ pub fn pack_network(
         output,
         fmi,
     } = *target;
-    // The exciting force table of the sweep, for the network's DOFs (a network packed from a
-    // file has no sweep: its FMU models calm water only).
-    let excitation = match fit {
+    if output.as_os_str() == "-" {
+        return Err(PackError(
+            "-o -: an archive is written to a file, not to standard output (which carries the \
+             summary); name a file"
+                .into(),
+        ));
+    }
+    // A network packed from a file has no sweep: its FMU models calm water only.
+    let body = match fit {
         Some(fitted) => {
-            let names: Vec<&str> = network
-                .network
-                .dof_names
-                .iter()
-                .map(String::as_str)
-                .collect();
-            let sweep = fitted.built.sweep.select_dofs(&names).ok_or_else(|| {
-                format!(
-                    "the sweep has no exciting force for the DOFs {}",
-                    names.join(" ")
-                )
-            })?;
-            let mut text = Vec::new();
-            sweep
-                .write_excitation_csv(&mut text, ExcitationPart::Total)
-                .map_err(|e| format!("cannot format the excitation table: {e}"))?;
-            Some(String::from_utf8_lossy(&text).into_owned())
+            body.with_sweep_excitation(&fitted.built.sweep, &network.network().dof_names)?
         }
-        None => hull.excitation_csv.clone(),
+        None => body,
     };
-    let resources = Resources::with_options(network.xml.clone(), hull.xml.clone(), keep_inf_mass)
-        .with_excitation(excitation)
-        .with_hydrostatics(hull.hydrostatics_csv.clone());
-    // The GUID is that of the packed texts.
-    let options = ModelOptions {
-        keep_inf_mass,
-        guid: Some(resources.guid()),
-    };
-    let model = Model::new(&network.network, options).map_err(|e| e.to_string())?;
-    let mut units = Vec::new();
-    for name in model.dof_names() {
-        let unit = hull.dofs.iter().find(|d| &d.name == name).ok_or_else(|| {
-            format!(
-                "the network's DOF '{name}' is not a DOF of hull '{}' ({})",
-                hull.name,
-                hull.dofs
-                    .iter()
-                    .map(|d| d.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        })?;
-        units.push(unit.clone());
-    }
-    let layout =
-        Layout::with_extent(units, keep_inf_mass, hull.extent).map_err(|e| e.to_string())?;
-    let guid = resources.guid();
-    let system = model.system();
-    let model_name = format!("hydrofmu {}", hull.name);
-    let osp = crate::osp::model_description(&layout);
-    let info = DescriptionInfo {
-        model_identifier: model_identifier.to_string(),
-        guid: guid.clone(),
-        model_name: Some(model_name.clone()),
-        description: Some(format!(
-            "Hydrodynamic radiation forces on hull '{}' (DOFs {}), equivalent mass-spring-damper network with {} states",
-            hull.name,
-            model.dof_names().join(", "),
-            model.network_states()
-        )),
-        damping_direct: Some(system.damping_direct().clone()),
-        added_mass_inf: Some(system.added_mass_inf().clone()),
-    };
-    let description = match fmi {
-        FmiVersion::V2 => layout.model_description(FIXED_XML, &info),
-        FmiVersion::V3 => layout.model_description_fmi3(FIXED_XML, &info),
-    }
-    .map_err(|e| e.to_string())?;
-    let platform = match fmi {
-        FmiVersion::V2 => "linux64",
-        FmiVersion::V3 => "x86_64-linux",
-    };
-    let library = hydrofmu::input::read_bounded(binary, MAX_BINARY_BYTES, "MAX_BINARY_BYTES")
-        .map_err(|e| format!("cannot read the binary {}: {e}", binary.display()))?;
-    let mut documentation = documentation(hull, &layout, &model, &guid, keep_inf_mass);
-    if let Some(report) = &hull.report {
-        let section = format!("<h2>Fit report</h2>\n<pre>{}</pre>\n", escape(report));
-        documentation = match documentation.rfind("</body>") {
-            Some(at) => format!("{}{section}{}", &documentation[..at], &documentation[at..]),
-            None => documentation + &section,
-        };
-    }
-    let mut plot_entries = Vec::new();
-    let mut scene_entry = hull.report.clone();
-    if let Some(Fitted { built, scene }) = fit {
-        let scene_text = SceneText(scene).to_string();
-        let mut section = format!(
-            "<h2>Scene: what this FMU models and leaves out</h2>\n<pre>{}</pre>\n\
-             <h2>Fit report</h2>\n<pre>{}</pre>\n",
-            escape(&scene_text),
-            escape(&crate::fit_cmd::text(built))
-        );
-        scene_entry = Some(scene_text);
-        for (name, svg) in crate::fit_cmd::plots(built) {
-            section += &format!("<p><img src=\"plots/{name}\" alt=\"{name}\"></p>\n");
-            plot_entries.push((format!("documentation/plots/{name}"), svg.into_bytes()));
-        }
-        documentation = match documentation.rfind("</body>") {
-            Some(at) => format!("{}{section}{}", &documentation[..at], &documentation[at..]),
-            None => documentation + &section,
-        };
-    }
-
-    let mut entries: Vec<(String, Vec<u8>)> = vec![
-        ("modelDescription.xml".into(), description.into_bytes()),
-        (
-            format!("binaries/{platform}/{model_identifier}.so"),
-            library,
-        ),
-        (
-            format!("resources/{}", Resources::NETWORK_FILE),
-            resources.network_xml.clone().into_bytes(),
-        ),
-        (
-            format!("resources/{}", Resources::OPTIONS_FILE),
-            resources.options_xml.clone().into_bytes(),
-        ),
-    ];
-    if let Some(h) = &resources.hull_xml {
-        entries.push((
-            format!("resources/{}", Resources::HULL_FILE),
-            h.clone().into_bytes(),
-        ));
-    }
-    if let Some(x) = &resources.excitation_csv {
-        entries.push((
-            format!("resources/{}", Resources::EXCITATION_FILE),
-            x.clone().into_bytes(),
-        ));
-    }
-    if let Some(c) = &resources.hydrostatics_csv {
-        entries.push((
-            format!("resources/{}", Resources::HYDROSTATICS_FILE),
-            c.clone().into_bytes(),
-        ));
-    }
-    entries.push((
-        "documentation/index.html".into(),
-        documentation.into_bytes(),
-    ));
-    entries.extend(plot_entries);
-    if let Some(text) = &scene_entry {
-        entries.push((SCENE_FILE.into(), format!("{text}\n").into_bytes()));
-    }
-    if let Some(name) = crate::osp::file_name(&model_name) {
-        let path = format!("{}/{name}", crate::osp::ARCHIVE_DIR);
-        entries.push((path, osp.clone().into_bytes()));
-    }
-    // What the archive holds must instantiate: load its resources as an instance does.
-    Model::from_resources(&resources).map_err(|e| {
-        PackError(format!(
-            "not written: {} would not instantiate: {e}",
-            output.display()
-        ))
-    })?;
+    let mut archive = Archive::new(body, network, model_identifier, fmu::read_binary(binary)?);
+    archive.keep_inf_mass = keep_inf_mass;
+    archive.fmi = fmi.into();
+    archive.scene = fit.map(|Fitted { built, scene }| SceneDocumentation {
+        scene: scene.to_string(),
+        fit: crate::fit_cmd::text(built),
+        plots: crate::fit_cmd::plots(built),
+    });
+    let packed = archive.build()?;
     // The archive and the OSP description beside it are written together, or neither.
-    let archive = zip_archive(output, &entries)?;
     let mut outputs = crate::output::Outputs::new();
-    outputs.bytes(output, &archive)?;
-    let osp = crate::osp::stage_beside(&mut outputs, output, &model_name, &osp)?;
+    outputs.bytes(output, &packed.bytes)?;
+    let osp = stage_osp_beside(
+        &mut outputs,
+        output,
+        &packed.model_name,
+        &packed.osp_description,
+    )?;
     outputs.commit()?;
     Ok(PackSummary {
         path: output.to_path_buf(),
         model_identifier: model_identifier.to_string(),
-        guid,
-        dofs: model.dof_names().to_vec(),
-        states: model.network_states(),
+        guid: packed.guid,
+        dofs: packed.dofs,
+        states: packed.states,
         keep_inf_mass,
         osp,
-        scene: scene_entry,
+        scene: packed.scene,
         fit: fit.map(|Fitted { built: b, .. }| {
             format!(
                 "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
@@ -542,118 +364,30 @@ pub fn pack_network(
     })
 }
 
-/// The archive's bytes. `output` only names it in errors, and a name that standard output
-/// would take (`-`) is refused: the summary goes there.
-fn zip_archive(output: &Path, entries: &[(String, Vec<u8>)]) -> Result<Vec<u8>, PackError> {
-    use zip::write::SimpleFileOptions;
-    if output.as_os_str() == "-" {
-        return Err(PackError(
-            "-o -: an archive is written to a file, not to standard output (which carries the \
-             summary); name a file"
-                .into(),
+/// Stages the OSP description beside `archive` in `outputs` (committed with the archive) when
+/// the archive goes to a regular file ([`osp::path_beside`]); returns the path it will have.
+/// Replacing another hull's description is warned about.
+pub fn stage_osp_beside(
+    outputs: &mut crate::output::Outputs,
+    archive: &Path,
+    model_name: &str,
+    text: &str,
+) -> Result<Option<PathBuf>, String> {
+    let Some(path) = osp::path_beside(archive, model_name) else {
+        return Ok(None);
+    };
+    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
+    if hydrofmu::input::read_bounded_text(&path, limit, "MAX_INPUT_BYTES")
+        .is_ok_and(|old| old != text)
+    {
+        crate::output::stderr_line(&format!(
+            "fmu-pack: warning: {} replaced by another hull FMU's groups (one modelName per \
+             hull: keep FMUs of a hull with different DOFs in separate folders)",
+            path.display()
         ));
     }
-    let err = |e: &dyn fmt::Display| PackError(format!("writing {}: {e}", output.display()));
-    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
-    let options = SimpleFileOptions::default()
-        .compression_method(zip::CompressionMethod::Deflated)
-        .unix_permissions(0o644)
-        .large_file(false);
-    for (path, bytes) in entries {
-        if path.contains('\\') || path.starts_with('/') || path.contains("..") {
-            return Err(PackError(format!("bad archive path {path}")));
-        }
-        zip.start_file(path.as_str(), options)
-            .map_err(|e| err(&e))?;
-        zip.write_all(bytes).map_err(|e| err(&e))?;
-    }
-    Ok(zip.finish().map_err(|e| err(&e))?.into_inner())
-}
-
-fn matrix_table(title: &str, names: &[String], m: &nalgebra::DMatrix<f64>) -> String {
-    let mut t = format!("<h3>{}</h3>\n<table>\n<tr><th></th>", escape(title));
-    for n in names {
-        t += &format!("<th>{}</th>", escape(n));
-    }
-    t += "</tr>\n";
-    for (i, n) in names.iter().enumerate() {
-        t += &format!("<tr><th>{}</th>", escape(n));
-        for j in 0..names.len() {
-            t += &format!("<td>{:.6e}</td>", m[(i, j)]);
-        }
-        t += "</tr>\n";
-    }
-    t + "</table>\n"
-}
-
-fn documentation(
-    hull: &HullInfo,
-    layout: &Layout,
-    model: &Model,
-    guid: &str,
-    keep_inf_mass: bool,
-) -> String {
-    let system = model.system();
-    let mut rows = String::new();
-    for v in layout.variables() {
-        rows += &format!(
-            "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-            escape(&v.name),
-            v.value_reference,
-            v.causality.as_str(),
-            escape(v.unit),
-            escape(&v.description)
-        );
-    }
-    let usage = if keep_inf_mass {
-        "The force includes -A_inf a: connect the hull accelerations to <code>acceleration.&lt;dof&gt;</code>."
-    } else {
-        "Add <code>added_mass_inf</code> to the hull's mass matrix; the force excludes -A_inf q''."
-    };
-    format!(
-        r#"<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>hydrofmu {name}</title>
-<style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}td:first-child{{text-align:left}}</style>
-</head><body>
-<h1>hydrofmu: hull {name}</h1>
-<p>FMI 2.0 co-simulation unit giving the hydrodynamic radiation force on the {body} ({extent}),
-from an equivalent mass-spring-damper network stepped exactly over each communication step.
-Conventions: {axes}; force = force on the hull by the water.</p>
-<ul>
-<li>GUID: <code>{guid}</code></li>
-<li>DOFs: {dofs}</li>
-<li>Network states: {states}</li>
-<li>{usage}</li>
-<li>Power = -force_radiation . velocity (delivered to the water through the radiated waves; the exciting force's work is not in it); energy = energy stored in the network.</li>
-<li>rho and g (fixed parameters) rescale the network exactly.</li>
-</ul>
-<h2>Coefficients at rho = {rho}, g = {g}</h2>
-{a_inf}{damping}
-<h2>Variables</h2>
-<table><tr><th>name</th><th>value reference</th><th>causality</th><th>unit</th><th>description</th></tr>
-{rows}</table>
-</body></html>
-"#,
-        name = escape(&hull.name),
-        body = match hull.extent {
-            Extent::PerUnitLength => "hull section",
-            Extent::WholeBody => "whole ship (strip theory, docs/SHIPS.md)",
-        },
-        extent = hull.extent.words(),
-        axes = match hull.extent {
-            Extent::PerUnitLength => "x right, y up, free surface y = 0",
-            Extent::WholeBody => "x forward, y to port, z up, origin on the free surface",
-        },
-        guid = escape(guid),
-        dofs = escape(&model.dof_names().join(", ")),
-        states = model.network_states(),
-        usage = usage,
-        rho = system.rho(),
-        g = system.g(),
-        a_inf = matrix_table("added_mass_inf", model.dof_names(), system.added_mass_inf()),
-        damping = matrix_table("damping_direct", model.dof_names(), system.damping_direct()),
-        rows = rows,
-    )
+    outputs.bytes(&path, text.as_bytes())?;
+    Ok(Some(path))
 }
 
 /// The hydrofmu shared library: `--binary`, else `HYDROFMU_BINARY`, else, for a release build
@@ -729,214 +463,14 @@ fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
     }
 }
 
-/// What `inspect` found in an archive.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Inspection {
-    /// modelName.
-    pub model_name: String,
-    /// fmiVersion (`2.0` or `3.0`).
-    pub fmi_version: String,
-    /// modelIdentifier.
-    pub model_identifier: String,
-    /// GUID in the model description.
-    pub guid: String,
-    /// GUID implied by the resources.
-    pub resources_guid: String,
-    /// DOF names with their velocity units.
-    pub dofs: Vec<(String, String)>,
-    /// Number of scalar variables.
-    pub variables: usize,
-    /// Network states: the length of the network's state vector (see
-    /// [`Model::network_states`]).
-    pub states: usize,
-    /// A_inf kept inside.
-    pub keep_inf_mass: bool,
-    /// Archive entries.
-    pub entries: Vec<String>,
-    /// The scene report, when the network was computed by fmu-pack.
-    pub scene: Option<String>,
-}
-
-impl fmt::Display for Inspection {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "model             {}", self.model_name)?;
-        writeln!(f, "FMI version       {}", self.fmi_version)?;
-        writeln!(f, "modelIdentifier   {}", self.model_identifier)?;
-        writeln!(
-            f,
-            "GUID              {} ({})",
-            self.guid,
-            if self.guid == self.resources_guid {
-                "matches the resources"
-            } else {
-                "DOES NOT match the resources"
-            }
-        )?;
-        writeln!(f, "DOFs              {}", self.dofs.len())?;
-        for (name, unit) in &self.dofs {
-            writeln!(f, "  {name:<10} velocity in {unit}")?;
-        }
-        writeln!(f, "variables         {}", self.variables)?;
-        writeln!(f, "network states    {}", self.states)?;
-        writeln!(
-            f,
-            "A_inf             {}",
-            if self.keep_inf_mass {
-                "inside"
-            } else {
-                "outside"
-            }
-        )?;
-        match &self.scene {
-            Some(scene) => {
-                writeln!(f, "scene")?;
-                for line in scene.lines() {
-                    writeln!(f, "  {line}")?;
-                }
-            }
-            None => writeln!(
-                f,
-                "scene             not recorded (network given as a file)"
-            )?,
-        }
-        writeln!(f, "entries")?;
-        for e in &self.entries {
-            writeln!(f, "  {e}")?;
-        }
-        Ok(())
-    }
-}
-
-fn read_entry<R: Read + std::io::Seek>(
-    archive: &mut zip::ZipArchive<R>,
-    name: &str,
-) -> Result<Option<String>, PackError> {
-    let file = match archive.by_name(name) {
-        Ok(f) => f,
-        Err(zip::result::ZipError::FileNotFound) => return Ok(None),
-        Err(e) => return Err(PackError(format!("{name}: {e}"))),
-    };
-    let limit = hydrofmu::xml::MAX_INPUT_BYTES;
-    let mut text = String::new();
-    file.take(limit as u64 + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| format!("{name}: {e}"))?;
-    if text.len() > limit {
-        return Err(PackError(format!(
-            "{name}: larger than the limit MAX_INPUT_BYTES = {limit} bytes"
-        )));
-    }
-    Ok(Some(text))
-}
-
 /// `fmu-pack inspect`. Every error starts with the archive's path.
-pub fn inspect(path: &Path) -> Result<Inspection, PackError> {
-    inspect_archive(path).map_err(|e| PackError(format!("{}: {e}", path.display())))
-}
-
-fn inspect_archive(path: &Path) -> Result<Inspection, PackError> {
-    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) && path.exists() {
-        return Err(PackError(
-            "not a regular file (a named pipe, a device or a folder): only regular files are read"
-                .into(),
-        ));
-    }
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot open the archive: {e}"))?;
-    let mut archive = zip::ZipArchive::new(file).map_err(|e| format!("not a zip archive: {e}"))?;
-    let entries: Vec<String> = archive.file_names().map(str::to_string).collect();
-    let description = read_entry(&mut archive, "modelDescription.xml")?
-        .ok_or("no modelDescription.xml in the archive")?;
-    let missing = |n: &str| PackError(format!("no resources/{n} in the archive"));
-    let network = read_entry(
-        &mut archive,
-        &format!("resources/{}", Resources::NETWORK_FILE),
-    )?
-    .ok_or_else(|| missing(Resources::NETWORK_FILE))?;
-    let options = read_entry(
-        &mut archive,
-        &format!("resources/{}", Resources::OPTIONS_FILE),
-    )?
-    .ok_or_else(|| missing(Resources::OPTIONS_FILE))?;
-    let hull = read_entry(&mut archive, &format!("resources/{}", Resources::HULL_FILE))?;
-    let excitation = read_entry(
-        &mut archive,
-        &format!("resources/{}", Resources::EXCITATION_FILE),
-    )?;
-    let hydrostatics = read_entry(
-        &mut archive,
-        &format!("resources/{}", Resources::HYDROSTATICS_FILE),
-    )?;
-    let scene = read_entry(&mut archive, SCENE_FILE)?;
-    let resources = Resources::new(network, hull, options)
-        .map_err(|e| e.to_string())?
-        .with_excitation(excitation)
-        .with_hydrostatics(hydrostatics);
-    let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
-
-    let mut out = Inspection {
-        model_name: String::new(),
-        fmi_version: String::new(),
-        model_identifier: String::new(),
-        guid: String::new(),
-        resources_guid: resources.guid(),
-        dofs: Vec::new(),
-        variables: 0,
-        states: model.network_states(),
-        keep_inf_mass: resources.keep_inf_mass,
-        entries,
-        scene,
-    };
-    let root =
-        hydrofmu::xml::parse(&description).map_err(|e| format!("modelDescription.xml: {e}"))?;
-    let mut current_name = String::new();
-    for e in root.descendants() {
-        let attr = |key: &str| e.attribute(key).map(str::to_string);
-        match e.name.as_str() {
-            "fmiModelDescription" => {
-                out.model_name = attr("modelName").unwrap_or_default();
-                out.fmi_version = attr("fmiVersion").unwrap_or_default();
-                // FMI 3.0 calls the GUID the instantiation token.
-                out.guid = attr("guid")
-                    .or_else(|| attr("instantiationToken"))
-                    .unwrap_or_default();
-            }
-            "CoSimulation" => out.model_identifier = attr("modelIdentifier").unwrap_or_default(),
-            "ScalarVariable" => {
-                out.variables += 1;
-                current_name = attr("name").unwrap_or_default();
-            }
-            "Real" => {
-                if let Some(dof) = current_name.strip_prefix("velocity.") {
-                    out.dofs
-                        .push((dof.to_string(), attr("unit").unwrap_or_default()));
-                }
-            }
-            // FMI 3.0: one element per variable, the unit on it.
-            "Float64" | "Int32" => {
-                out.variables += 1;
-                let name = attr("name").unwrap_or_default();
-                if let Some(dof) = name.strip_prefix("velocity.") {
-                    out.dofs
-                        .push((dof.to_string(), attr("unit").unwrap_or_default()));
-                }
-            }
-            _ => {}
-        }
-    }
-    if out.dofs.len() != model.dof_count() {
-        return Err(PackError(format!(
-            "modelDescription.xml has {} velocity inputs, the network {} DOFs",
-            out.dofs.len(),
-            model.dof_count()
-        )));
-    }
-    Ok(out)
+pub fn inspect(path: &Path) -> Result<fmu::Inspection, PackError> {
+    Ok(fmu::inspect(path)?)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hydrofmu::fmu::DofUnit;
 
     /// The seed paper's 2-DOF network (the shipped example file).
     const SEED: &str = include_str!("../../examples/networks/seed_2dof.xml");
@@ -948,158 +482,42 @@ mod tests {
         d
     }
 
-    /// An FMI 2.0 target.
-    fn to<'a>(binary: &'a Path, model_identifier: &'a str, output: &'a Path) -> Target<'a> {
-        Target {
-            binary,
-            model_identifier,
-            output,
-            fmi: FmiVersion::V2,
-        }
+    fn hull() -> Body {
+        let hull = hydrofmu::hull::Hull::semicircle(1.0)
+            .unwrap()
+            .select_dofs(&["sway", "roll"])
+            .unwrap();
+        Body::section(&hull)
     }
 
-    fn hull() -> HullInfo {
-        HullInfo {
-            name: "Test hull".into(),
-            dofs: vec![
-                DofUnit::builtin("sway").unwrap(),
-                DofUnit::builtin("roll").unwrap(),
-            ],
-            xml: Some(
-                hydrofmu::hull::Hull::semicircle(1.0)
-                    .unwrap()
-                    .select_dofs(&["sway", "roll"])
-                    .unwrap()
-                    .to_xml_string(),
-            ),
-            extent: Extent::PerUnitLength,
-            hydrostatics_csv: None,
-            excitation_csv: None,
-            report: None,
-        }
-    }
-
-    fn net(text: &str) -> PackedNetwork {
-        PackedNetwork::from_text(text.to_string(), "test network").unwrap()
+    fn net() -> PackedNetwork {
+        PackedNetwork::from_text(SEED.to_string(), "test network").unwrap()
     }
 
     #[test]
-    fn the_archive_has_the_fmi_layout_and_matching_guid() {
+    fn the_archive_and_its_osp_description_are_written_together() {
         let dir = temp_dir("layout");
         let binary = dir.join("libfake.so");
         std::fs::write(&binary, b"\x7fELF fake").unwrap();
         let out = dir.join("Seed-1.fmu");
         let id = identifier_from_path(&out);
-        assert_eq!(id, "Seed_1");
-        let summary =
-            pack_network(&hull(), &net(SEED), false, &to(&binary, &id, &out), None).unwrap();
+        let target = Target {
+            binary: &binary,
+            model_identifier: &id,
+            output: &out,
+            fmi: FmiVersion::V3,
+        };
+        let summary = pack_network(hull(), net(), false, &target, None).unwrap();
         assert_eq!(summary.dofs, vec!["sway".to_string()]);
-        assert_eq!(summary.states, 4);
         let found = inspect(&out).unwrap();
         assert_eq!(found.guid, summary.guid);
-        assert_eq!(found.resources_guid, summary.guid);
-        assert_eq!(found.model_identifier, "Seed_1");
-        assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
-        let osp_name = format!("{}_OspModelDescription.xml", found.model_name);
-        let mut names = found.entries.clone();
-        names.sort();
-        assert_eq!(
-            names,
-            vec![
-                "binaries/linux64/Seed_1.so",
-                "documentation/index.html",
-                &format!("extra/com.open-simulation-platform/{osp_name}"),
-                "modelDescription.xml",
-                "resources/hull.xml",
-                "resources/network.xml",
-                "resources/options.xml",
-            ]
-        );
-        // The OSP model description beside the archive is the one inside it.
-        let beside = summary.osp.clone().unwrap();
-        assert_eq!(beside, dir.join(&osp_name));
-        let inside = read_entry(
-            &mut zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap(),
-            &format!("extra/com.open-simulation-platform/{osp_name}"),
-        )
-        .unwrap();
-        assert_eq!(inside, Some(std::fs::read_to_string(&beside).unwrap()));
-        let mut archive = zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap();
-        for i in 0..archive.len() {
-            let f = archive.by_index(i).unwrap();
-            assert_eq!(f.compression(), zip::CompressionMethod::Deflated);
-            assert!(!f.name().contains('\\'));
-            assert!(!f.is_symlink());
-        }
-        // The binary is a byte copy.
-        let mut so = Vec::new();
-        archive
-            .by_name("binaries/linux64/Seed_1.so")
-            .unwrap()
-            .read_to_end(&mut so)
-            .unwrap();
-        assert_eq!(so, b"\x7fELF fake");
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn an_fmi3_archive_has_the_fmi3_layout_and_the_same_guid() {
-        let dir = temp_dir("fmi3");
-        let binary = dir.join("libfake.so");
-        std::fs::write(&binary, b"\x7fELF fake").unwrap();
-        let (two, three) = (dir.join("Two.fmu"), dir.join("Three.fmu"));
-        let s2 = pack_network(&hull(), &net(SEED), false, &to(&binary, "M", &two), None).unwrap();
-        let target = Target {
-            fmi: FmiVersion::V3,
-            ..to(&binary, "M", &three)
-        };
-        let s3 = pack_network(&hull(), &net(SEED), false, &target, None).unwrap();
-        assert_eq!(s3.guid, s2.guid);
-        let found = inspect(&three).unwrap();
         assert_eq!(found.fmi_version, "3.0");
-        assert_eq!(inspect(&two).unwrap().fmi_version, "2.0");
-        assert_eq!(found.guid, s3.guid);
-        assert_eq!(found.dofs, vec![("sway".to_string(), "m/s".to_string())]);
-        assert!(found
-            .entries
-            .contains(&"binaries/x86_64-linux/M.so".to_string()));
-        assert!(!found.entries.iter().any(|e| e.contains("linux64")));
-        // time, 10 fixed parameters, velocity, force, power, energy, 3 arrays, the waves'
-        // force_radiation, force_excitation and wave.elevation.
-        assert_eq!(found.variables, 1 + 10 + 4 + 3 + 3);
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn guids_differ_between_networks_hulls_and_flags() {
-        let dir = temp_dir("guid");
-        let binary = dir.join("lib.so");
-        std::fs::write(&binary, b"x").unwrap();
-        let pack = |net: &str, h: &HullInfo, keep: bool, name: &str| {
-            pack_network(
-                h,
-                &self::net(net),
-                keep,
-                &to(&binary, "M", &dir.join(name)),
-                None,
-            )
-            .unwrap()
-            .guid
-        };
-        let other_net = SEED.replace("0.1153", "0.1154");
-        let mut other_hull = hull();
-        other_hull.xml = Some(
-            hydrofmu::hull::Hull::semicircle(2.0)
-                .unwrap()
-                .select_dofs(&["sway", "roll"])
-                .unwrap()
-                .to_xml_string(),
+        let beside = summary.osp.clone().unwrap();
+        assert_eq!(
+            beside,
+            dir.join("hydrofmu Semicircle_OspModelDescription.xml")
         );
-        let a = pack(SEED, &hull(), false, "a.fmu");
-        assert_eq!(a, pack(SEED, &hull(), false, "a2.fmu"));
-        assert_ne!(a, pack(&other_net, &hull(), false, "b.fmu"));
-        assert_ne!(a, pack(SEED, &other_hull, false, "c.fmu"));
-        assert_ne!(a, pack(SEED, &hull(), true, "d.fmu"));
+        assert!(beside.is_file());
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -1109,26 +527,48 @@ mod tests {
         let binary = dir.join("lib.so");
         std::fs::write(&binary, b"x").unwrap();
         let out = dir.join("x.fmu");
-        let mut h = hull();
-        h.dofs.remove(0);
-        let e = pack_network(&h, &net(SEED), false, &to(&binary, "X", &out), None).unwrap_err();
-        assert!(e.0.contains("'sway' is not a DOF"), "{e}");
-        let e = PackedNetwork::from_text("<nonsense".into(), "network.xml")
-            .err()
-            .unwrap();
-        assert!(e.0.contains("network"), "{e}");
-        let e = pack_network(
-            &hull(),
-            &net(SEED),
-            false,
-            &to(&dir.join("missing.so"), "X", &out),
-            None,
-        )
-        .unwrap_err();
+        let to = |binary: &Path, output: &Path| {
+            let target = Target {
+                binary,
+                model_identifier: "X",
+                output,
+                fmi: FmiVersion::V2,
+            };
+            pack_network(hull(), net(), false, &target, None).unwrap_err()
+        };
+        let e = to(&dir.join("missing.so"), &out);
         assert!(e.0.contains("cannot read the binary"), "{e}");
         assert!(!out.exists());
+        let e = to(&binary, Path::new("-"));
+        assert!(
+            e.0.starts_with("-o -: an archive is written to a file"),
+            "{e}"
+        );
         assert!(locate_binary(Some(&dir.join("missing.so"))).is_err());
         assert!(inspect(&binary).is_err());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn the_description_is_staged_beside_a_file_and_not_beside_a_device() {
+        let dir = std::env::temp_dir().join(format!("fmu-pack-osp-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let archive = dir.join("X.fmu");
+        let mut outputs = crate::output::Outputs::new();
+        for device in ["/dev/null", "-"] {
+            assert_eq!(
+                stage_osp_beside(&mut outputs, Path::new(device), "m", "x").unwrap(),
+                None
+            );
+        }
+        let staged = stage_osp_beside(&mut outputs, &archive, "hydrofmu X", "text")
+            .unwrap()
+            .unwrap();
+        assert_eq!(staged, dir.join("hydrofmu X_OspModelDescription.xml"));
+        // Staged, not yet written: nothing there until the commit.
+        assert!(!staged.exists());
+        outputs.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&staged).unwrap(), "text");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -7,8 +7,6 @@
 //! rescales it exactly to the `rho` and `g` a master sets (see [`hydrofmu::scene`]).
 
 use crate::progress::Progress;
-use hydrofmu::fmu::{DofUnit, Extent};
-use hydrofmu::hull::Hull;
 use hydrofmu::identify::FitReport;
 use hydrofmu::panels::{PanelError, MAX_BODY_PANELS};
 use hydrofmu::scene::{Band, BuiltScene, Scene, SceneError, SceneReport, SceneResponse};
@@ -138,45 +136,6 @@ pub fn build_network(scene: Scene) -> Result<Built, String> {
     })
 }
 
-/// What `pack` needs to know about the hull.
-#[derive(Clone, Debug)]
-pub struct HullInfo {
-    /// Hull name (shown in the model description and the documentation).
-    pub name: String,
-    /// DOFs with their units, in the hull's order.
-    pub dofs: Vec<DofUnit>,
-    /// Canonical hull file text, packed as `resources/hull.xml`.
-    pub xml: Option<String>,
-    /// Forces per unit length (a section) or of the whole body (a ship).
-    pub extent: Extent,
-    /// The restoring table, packed as `resources/hydrostatics.csv` (a body without a hull
-    /// file: a ship).
-    pub hydrostatics_csv: Option<String>,
-    /// The exciting force table, when no section sweep provides one (a ship).
-    pub excitation_csv: Option<String>,
-    /// A fit report for the documentation, when no section scene provides one (a ship).
-    pub report: Option<String>,
-}
-
-impl HullInfo {
-    /// What `pack` needs of a resolved hull (see [`crate::hull_arg::resolve`]).
-    pub fn new(hull: &Hull) -> HullInfo {
-        let mut name = hull.name().to_string();
-        if let Some(first) = name.get_mut(0..1) {
-            first.make_ascii_uppercase();
-        }
-        HullInfo {
-            name,
-            dofs: hull.dof_units(),
-            xml: Some(hull.to_xml_string()),
-            extent: Extent::PerUnitLength,
-            hydrostatics_csv: None,
-            excitation_csv: None,
-            report: None,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,13 +168,5 @@ mod tests {
             e.starts_with("--max-step 10 s: its Nyquist frequency"),
             "{e}"
         );
-    }
-
-    #[test]
-    fn hull_info_capitalizes_the_name_and_carries_the_units() {
-        let info = HullInfo::new(&Hull::semicircle(1.0).unwrap());
-        assert_eq!(info.name, "Semicircle");
-        assert_eq!(info.dofs.len(), 9);
-        assert_eq!(info.dofs[2], DofUnit::new("roll", 1, true));
     }
 }

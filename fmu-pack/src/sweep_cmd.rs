@@ -18,8 +18,10 @@ use std::time::Instant;
 /// The hull and the sweep settings, shared by `fmu-pack sweep` and `fmu-pack fit`.
 #[derive(Args, Debug, Clone)]
 pub struct HullSweepArgs {
-    /// `semicircle`, `circle`, a hull file (XML, see docs/HULL_FORMAT.md) or, for `sweep`, a
-    /// ship file (docs/SHIPS.md).
+    /// The input, chosen by the file: `semicircle` or `circle` (built-in sections), a hull
+    /// file (section XML, docs/HULL_FORMAT.md), a ship file (XML with a `<ship>` root, strip
+    /// theory, docs/SHIPS.md), WAMIT files `NAME.1` (with `NAME.3` and `NAME.hst` beside) or a
+    /// Capytaine NetCDF-3 dataset `NAME.nc` (imported 3D databases, docs/DATABASES.md).
     pub hull: String,
     /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
     #[arg(long = "depth", value_name = "H_OVER_R")]

@@ -4,7 +4,7 @@
 //!
 //! libcosim reads `<modelName>_OspModelDescription.xml` (the modelName of the FMU's
 //! `modelDescription.xml`, not the file name) from the folder of the `.fmu` file, else from the
-//! folder of `OspSystemStructure.xml`; it never looks inside the archive. `fmu-pack pack`
+//! folder of `OspSystemStructure.xml`; it never looks inside the archive. [`crate::fmu::Archive`]
 //! therefore writes the file beside the archive, and ships a copy in the archive under
 //! [`ARCHIVE_DIR`] so that it travels with the FMU.
 //!
@@ -23,8 +23,8 @@
 //! In the file the groups stand in the order the OSP-IS 1.0 schema requires: the `Generic`
 //! groups first, then the linear ports, then the angular ones.
 
-use hydrofmu::fmu::{Layout, Quantity};
-use hydrofmu::xml::escape;
+use crate::fmu::{Layout, Quantity};
+use crate::xml::escape;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -270,45 +270,26 @@ pub fn file_name(model_name: &str) -> Option<String> {
     (!bad).then(|| format!("{model_name}_OspModelDescription.xml"))
 }
 
-/// Stages the description beside `archive` in `outputs` (committed with the archive) when the
-/// archive goes to a regular file (a new one or an existing one; not a device such as
-/// standard output); returns the path it will have.
-pub fn stage_beside(
-    outputs: &mut crate::output::Outputs,
-    archive: &Path,
-    model_name: &str,
-    text: &str,
-) -> Result<Option<PathBuf>, String> {
+/// Where the description goes beside an archive written to `archive`: the archive's folder,
+/// under [`file_name`]; `None` when the archive goes to standard output (`-`) or to an existing
+/// target that is not a regular file (a device), or when the model name cannot name a file.
+pub fn path_beside(archive: &Path, model_name: &str) -> Option<PathBuf> {
     if archive.as_os_str() == "-" || std::fs::metadata(archive).is_ok_and(|m| !m.is_file()) {
-        return Ok(None);
+        return None;
     }
-    let Some(name) = file_name(model_name) else {
-        return Ok(None);
-    };
+    let name = file_name(model_name)?;
     let dir = archive
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let path = dir.join(name);
-    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
-    if hydrofmu::input::read_bounded_text(&path, limit, "MAX_INPUT_BYTES")
-        .is_ok_and(|old| old != text)
-    {
-        crate::output::stderr_line(&format!(
-            "fmu-pack: warning: {} replaced by another hull FMU's groups (one modelName per \
-             hull: keep FMUs of a hull with different DOFs in separate folders)",
-            path.display()
-        ));
-    }
-    outputs.bytes(&path, text.as_bytes())?;
-    Ok(Some(path))
+    Some(dir.join(name))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hydrofmu::fmu::{Causality, DofUnit, Extent};
-    use hydrofmu::xml::{parse, Element};
+    use crate::fmu::{Causality, DofUnit, Extent};
+    use crate::xml::{parse, Element};
 
     fn ship(keep: bool) -> Layout {
         let dofs = ["surge", "sway", "heave", "roll", "pitch", "yaw"]
@@ -549,29 +530,19 @@ mod tests {
     }
 
     #[test]
-    fn the_description_is_staged_beside_a_file_and_not_beside_a_device() {
-        let dir = std::env::temp_dir().join(format!("fmu-pack-osp-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let archive = dir.join("X.fmu");
-        let mut outputs = crate::output::Outputs::new();
+    fn the_description_goes_beside_a_file_and_not_beside_a_device() {
         for device in ["/dev/null", "-"] {
-            assert_eq!(
-                stage_beside(&mut outputs, Path::new(device), "m", "x").unwrap(),
-                None
-            );
+            assert_eq!(path_beside(Path::new(device), "m"), None, "{device}");
         }
+        let dir = Path::new("some/folder");
+        assert_eq!(path_beside(&dir.join("X.fmu"), "a/b"), None);
         assert_eq!(
-            stage_beside(&mut outputs, &archive, "a/b", "x").unwrap(),
-            None
+            path_beside(&dir.join("X.fmu"), "hydrofmu X"),
+            Some(dir.join("hydrofmu X_OspModelDescription.xml"))
         );
-        let staged = stage_beside(&mut outputs, &archive, "hydrofmu X", "text")
-            .unwrap()
-            .unwrap();
-        assert_eq!(staged, dir.join("hydrofmu X_OspModelDescription.xml"));
-        // Staged, not yet written: nothing there until the commit.
-        assert!(!staged.exists());
-        outputs.commit().unwrap();
-        assert_eq!(std::fs::read_to_string(&staged).unwrap(), "text");
-        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(
+            path_beside(Path::new("X.fmu"), "m"),
+            Some(Path::new(".").join("m_OspModelDescription.xml"))
+        );
     }
 }
