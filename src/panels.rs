@@ -110,14 +110,14 @@ impl PanelParams {
 /// node where smooth vertices do not fit ([`PanelParams::vertex_budget`]). A smooth curve
 /// described by points turns far less per point (a Wigley section with 33 points per side
 /// about 3 degrees); a box's chine turns 90.
-pub const CORNER_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
+pub(crate) const CORNER_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
 
 /// Largest panel length at the top of a submerged contour, as a fraction of its gap to the
 /// free surface, in [`PanelParams::for_hull`].
-pub const GAP_FRACTION: f64 = 0.125;
+pub(crate) const GAP_FRACTION: f64 = 0.125;
 
 /// Upper bound of the automatic panel count of [`PanelParams::for_hull`].
-pub const MAX_AUTOMATIC_PANELS: usize = 1024;
+pub(crate) const MAX_AUTOMATIC_PANELS: usize = 1024;
 
 /// Most body panels [`discretize`] accepts. The panel method's system is dense: memory grows
 /// as `N^2` and the factorization as `N^3`. Measured for one frequency on one thread
@@ -130,7 +130,7 @@ pub const MAX_BODY_PANELS: usize = 8192;
 /// Most interior lid panels [`discretize`] accepts (they join the body panels in the dense
 /// system, see [`MAX_BODY_PANELS`]). The default lid density gives fewer than half as many lid
 /// panels as body panels, so only a raised [`PanelParams::lid_density`] can reach it.
-pub const MAX_LID_PANELS: usize = 4096;
+pub(crate) const MAX_LID_PANELS: usize = 4096;
 
 /// One straight constant-strength source panel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -229,7 +229,7 @@ impl Mesh {
 }
 
 /// Fewest panels per wavelength before [`Mesh::wavelength_warning`] warns.
-pub const PANELS_PER_WAVELENGTH: f64 = 10.0;
+pub(crate) const PANELS_PER_WAVELENGTH: f64 = 10.0;
 
 /// Why a hull cannot be discretized.
 #[derive(Clone, Debug, PartialEq)]
@@ -392,7 +392,7 @@ fn contour_vertices(hull: &Hull) -> (f64, Vec<f64>) {
 /// levels within 0.19 % of 256 panels, docs/SHIPS.md); corners elsewhere (a box's chines) do.
 /// A contour without any (a built-in form, or a hull file describing a smooth curve by points)
 /// is meshed like a smooth curve where its points outnumber the nodes.
-pub fn off_axis_corner_count(hull: &Hull) -> usize {
+pub(crate) fn off_axis_corner_count(hull: &Hull) -> usize {
     let (offset, vertices) = contour_vertices(hull);
     let closed = hull.is_closed();
     let point = |t: f64| hull.point(contour_parameter(closed, offset, t));

@@ -113,7 +113,7 @@ impl Realization<'_> {
 }
 
 /// [`check`] for any realization (for instance of a rational fit, before it is a network).
-pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
+pub(crate) fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
     let states = system.state_count();
     let n = system.input_count();
     // A state matrix whose eigenvalues cannot be computed counts as unstable (not passive).

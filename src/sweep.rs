@@ -47,11 +47,11 @@ use std::time::Duration;
 /// Most frequencies in one sweep: 500 times the default grid. The sweep's time and its table
 /// grow in proportion (at the default 128 panels about 0.05 s of solving per frequency, so
 /// the limit is over an hour on two cores).
-pub const MAX_FREQUENCIES: usize = 100_000;
+pub(crate) const MAX_FREQUENCIES: usize = 100_000;
 
 /// Most discretization levels: each level halves the panel count and the coarsest needs at
 /// least 4 panels, so [`crate::panels::MAX_BODY_PANELS`] (8192 = 4 * 2^11) allows 12.
-pub const MAX_EXTRAPOLATION_LEVELS: usize = 12;
+pub(crate) const MAX_EXTRAPOLATION_LEVELS: usize = 12;
 
 /// Most worker threads: each holds its own dense panel system while it solves, and beyond the
 /// machine's cores more threads only add memory.
@@ -60,7 +60,7 @@ pub const MAX_THREADS: usize = 1024;
 /// Most entries of the added-mass table, frequencies times DOFs squared: 16 bytes each in
 /// memory (and as much again for the exciting force and the fit's copy) and about 60 bytes
 /// each as CSV text, 1.2 GB at the limit. The default 9-DOF sweep has 16,281.
-pub const MAX_TABLE_ENTRIES: usize = 20_000_000;
+pub(crate) const MAX_TABLE_ENTRIES: usize = 20_000_000;
 
 /// A size that the parameters of a sweep decide, and its limit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -292,7 +292,7 @@ pub struct Solver {
 /// 128 panels is as accurate as the lid one there (3.5e-5 against 3.8e-5 at kR 0.5). Half the
 /// bound keeps clear of the first resonance, where the plain method's error grows (1.2e-4 in
 /// the force at 0.9 of the bound).
-pub const LID_FREE_FRACTION: f64 = 0.5;
+pub(crate) const LID_FREE_FRACTION: f64 = 0.5;
 
 /// The wavenumber (1/m) below which `mesh`'s interior problem provably has no eigenvalue,
 /// times [`LID_FREE_FRACTION`]: see [`Solver`]. Zero for a mesh without a lid, or one reaching

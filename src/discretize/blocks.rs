@@ -16,7 +16,7 @@ use std::ops::Range;
 /// (4.3e-11 at 1e6 rad, 9.0e-9 at 5e8 rad): about 1.2e-7 here. No f64 method does much better:
 /// a relative change of one unit roundoff in the stiffness moves the phase by half as many
 /// unit roundoffs.
-pub const MAX_PHASE_PER_STEP: f64 = 1e9;
+pub(crate) const MAX_PHASE_PER_STEP: f64 = 1e9;
 
 /// One block of a [`BlockDiscretizationCache`]: its states, its inputs, `A_j`, `B_j` and its
 /// states' scales.

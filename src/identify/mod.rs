@@ -166,10 +166,11 @@ mod tests;
 pub mod vector_fitting;
 
 pub use error::IdentifyError;
-pub use params::{CoupledMethod, FitParams, FitReport, DEFAULT_TOLERANCE};
+pub(crate) use params::DEFAULT_TOLERANCE;
+pub use params::{CoupledMethod, FitParams, FitReport};
 
-pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
-pub use response::{FrequencyResponse, FREQUENCY_RANGE, MAX_FREQUENCY_RATIO, VALUE_RANGE};
+pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND};
+pub use response::{FrequencyResponse, VALUE_RANGE};
 
 use crate::network::{Network, NetworkError, NetworkForm};
 use nalgebra::DMatrix;
@@ -247,7 +248,7 @@ pub fn fit_in_dof_units(
 /// its response compared with `data` at the report's band frequencies, in the report's norm
 /// (each entry's largest error over `error_scale`). A non-finite error is never within the
 /// tolerance.
-pub fn check_written_network(
+pub(crate) fn check_written_network(
     report: &mut FitReport,
     data: &FrequencyResponse,
 ) -> Result<(), IdentifyError> {

@@ -31,12 +31,13 @@ mod sea;
 mod spectrum;
 mod table;
 
-pub use sea::{Sea, SeaScratch, RESYNC_INTERVAL};
-pub use spectrum::{jonswap, SPECTRUM_RANGE};
+pub use sea::{Sea, SeaScratch};
+#[cfg(test)]
+use spectrum::jonswap;
 pub(crate) use table::write_excitation_rows;
-pub use table::{
-    ExcitationTable, MAX_HEADINGS, MAX_MODES, MAX_ROWS, MAX_TABLE_BYTES, MAX_WAVE_FREQUENCIES,
-};
+#[cfg(test)]
+use table::MAX_TABLE_BYTES;
+pub use table::{ExcitationTable, MAX_HEADINGS};
 
 use std::fmt;
 
@@ -44,16 +45,16 @@ use std::fmt;
 pub const DEFAULT_COMPONENTS: usize = 64;
 
 /// Largest number of JONSWAP components accepted.
-pub const MAX_COMPONENTS: usize = 10_000;
+pub(crate) const MAX_COMPONENTS: usize = 10_000;
 
 /// Tolerance on the heading (degrees): 0 and 180 are accepted within it, modulo 360.
-pub const HEADING_TOLERANCE: f64 = 1e-9;
+pub(crate) const HEADING_TOLERANCE: f64 = 1e-9;
 
 /// The largest JONSWAP peak enhancement accepted. DNV-RP-C205's normalization
 /// `1 - 0.287 ln gamma` is for 1..7; measured, the variance falls 3.2 % short of `Hs^2/16` at 8
 /// and 6.9 % at 10 (a warning above 7), 39 % at 20 and 61 % at 25, and the factor is negative
 /// from 32.6.
-pub const MAX_GAMMA: f64 = 10.0;
+pub(crate) const MAX_GAMMA: f64 = 10.0;
 
 /// Why a sea could not be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -260,7 +261,7 @@ impl WaveParams {
 
 /// Whether two headings (degrees) are one direction: equal modulo 360 within
 /// [`HEADING_TOLERANCE`].
-pub fn same_direction(a: f64, b: f64) -> bool {
+pub(crate) fn same_direction(a: f64, b: f64) -> bool {
     let d = (a - b).rem_euclid(360.0);
     d.min(360.0 - d) <= HEADING_TOLERANCE
 }
