@@ -84,7 +84,7 @@ pub enum IrregularFrequencies {
     /// Sources on the interior free-surface lid with `d(phi)/dy = 0` there (extended boundary
     /// condition). No effect on closed (submerged) contours, which have no irregular
     /// frequencies. A [`crate::sweep::Solver`] leaves the lid out far below the first
-    /// irregular frequency ([`crate::sweep::LID_FREE_FRACTION`]).
+    /// irregular frequency (`LID_FREE_FRACTION`).
     #[default]
     RemoveWithLid,
 }

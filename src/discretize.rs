@@ -30,8 +30,7 @@
 
 mod blocks;
 
-pub(crate) use blocks::MAX_PHASE_PER_STEP;
-pub use blocks::{BlockDiscretization, BlockDiscretizationCache};
+pub use blocks::{BlockDiscretization, BlockDiscretizationCache, MAX_PHASE_PER_STEP};
 
 use nalgebra::DMatrix;
 use std::fmt;

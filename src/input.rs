@@ -203,10 +203,10 @@ pub(crate) fn read_bytes(
     Ok(bytes)
 }
 
-/// As [`read_bytes`], for UTF-8 text.
+/// As `read_bytes`, for UTF-8 text.
 ///
 /// # Errors
-/// As [`read_bytes`], and text that is not UTF-8 (the byte offset named).
+/// As `read_bytes`, and text that is not UTF-8 (the byte offset named).
 pub(crate) fn read_text(
     path: &Path,
     max_bytes: u64,
@@ -217,19 +217,19 @@ pub(crate) fn read_text(
     })
 }
 
-/// [`read_bytes`] with the error as text (the message does not name the file: the caller
+/// `read_bytes` with the error as text (the message does not name the file: the caller
 /// does).
 ///
 /// # Errors
-/// As [`read_bytes`].
+/// As `read_bytes`.
 pub fn read_bounded(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u8>, String> {
     Ok(read_bytes(path, max_bytes, limit_name)?)
 }
 
-/// [`read_text`] with the error as text.
+/// `read_text` with the error as text.
 ///
 /// # Errors
-/// As [`read_text`].
+/// As `read_text`.
 pub fn read_bounded_text(path: &Path, max_bytes: u64, limit_name: &str) -> Result<String, String> {
     Ok(read_text(path, max_bytes, limit_name)?)
 }

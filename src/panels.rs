@@ -23,7 +23,7 @@
 //! uniformly in arc length. Contour vertices of hull files become panel nodes where they all
 //! fit ([`PanelParams::vertex_budget`]): each takes the node nearest to it in that spacing, the
 //! nodes between keep their relative spacing. Where they do not, only the corners (turning more
-//! than [`CORNER_ANGLE`]) do and the smooth vertices lie between nodes
+//! than `CORNER_ANGLE`) do and the smooth vertices lie between nodes
 //! ([`Mesh::smooth_vertices_between_nodes`]); with more corners than nodes, those where the
 //! contour turns least are left out and counted ([`Mesh::dropped_vertices`]). A contour
 //! symmetric about a vertical line gets a mesh symmetric to rounding by construction: one half
@@ -56,7 +56,7 @@ pub struct PanelParams {
     pub lid_density: f64,
     /// The panel count whose room decides which contour vertices become nodes. Default
     /// `None`: this mesh's own count. Where all vertices fit, all become nodes; where not,
-    /// only the corners (turning more than [`CORNER_ANGLE`]) do, and the smooth vertices lie
+    /// only the corners (turning more than `CORNER_ANGLE`) do, and the smooth vertices lie
     /// between nodes (a finely described smooth contour is meshed like a smooth curve). A
     /// solver meshing several levels passes its coarsest count, so that every level keeps
     /// the same vertices and the extrapolation sees one geometry converging smoothly.
@@ -77,7 +77,7 @@ impl Default for PanelParams {
 impl PanelParams {
     /// The default parameters for `hull`: [`PanelParams::default`], with more panels for a
     /// closed contour close to the free surface, so that the panels at its top are no longer
-    /// than [`GAP_FRACTION`] of the gap `d` between the top and the surface:
+    /// than `GAP_FRACTION` of the gap `d` between the top and the surface:
     /// `N >= perimeter (1 - clustering) / (GAP_FRACTION d)`, rounded up to a multiple of 4 (the
     /// extrapolation halves N twice).
     pub fn for_hull(hull: &Hull) -> Self {
@@ -130,7 +130,7 @@ pub const MAX_BODY_PANELS: usize = 8192;
 /// Most interior lid panels [`discretize`] accepts (they join the body panels in the dense
 /// system, see [`MAX_BODY_PANELS`]). The default lid density gives fewer than half as many lid
 /// panels as body panels, so only a raised [`PanelParams::lid_density`] can reach it.
-pub(crate) const MAX_LID_PANELS: usize = 4096;
+pub const MAX_LID_PANELS: usize = 4096;
 
 /// One straight constant-strength source panel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -182,7 +182,7 @@ pub struct Mesh {
     /// Contour corners that are not panel nodes (more corners than the panel count holds;
     /// those where the contour turns least are left out, cut along a chord).
     pub dropped_vertices: usize,
-    /// Smooth contour vertices (turning less than [`CORNER_ANGLE`]) left between nodes because
+    /// Smooth contour vertices (turning less than `CORNER_ANGLE`) left between nodes because
     /// not all vertices fit ([`PanelParams::vertex_budget`]): the nodes lie on the contour
     /// between them, as on a smooth curve.
     pub smooth_vertices_between_nodes: usize,
@@ -209,7 +209,7 @@ impl Mesh {
     }
 
     /// A physics sanity warning when the longest panel is too coarse for the wavelength at
-    /// `wavenumber` (fewer than [`PANELS_PER_WAVELENGTH`] panels per wavelength), else `None`.
+    /// `wavenumber` (fewer than `PANELS_PER_WAVELENGTH` panels per wavelength), else `None`.
     pub fn wavelength_warning(&self, wavenumber: f64) -> Option<String> {
         let wavelength = 2.0 * std::f64::consts::PI / wavenumber;
         let longest = self.max_panel_length();
@@ -385,7 +385,7 @@ fn contour_vertices(hull: &Hull) -> (f64, Vec<f64>) {
     (offset, vertices)
 }
 
-/// The number of corners of `hull`'s contour (vertices turning more than [`CORNER_ANGLE`])
+/// The number of corners of `hull`'s contour (vertices turning more than `CORNER_ANGLE`)
 /// off its mirror axis. A keel on the axis of a symmetric contour is a node of every mesh of
 /// an even panel count, the same point at every extrapolation level, and does not disturb the
 /// extrapolation (a hull-file Wigley, keel corners of 46 to 146 degrees: 64 panels and 3

@@ -47,11 +47,11 @@ use std::time::Duration;
 /// Most frequencies in one sweep: 500 times the default grid. The sweep's time and its table
 /// grow in proportion (at the default 128 panels about 0.05 s of solving per frequency, so
 /// the limit is over an hour on two cores).
-pub(crate) const MAX_FREQUENCIES: usize = 100_000;
+pub const MAX_FREQUENCIES: usize = 100_000;
 
 /// Most discretization levels: each level halves the panel count and the coarsest needs at
 /// least 4 panels, so [`crate::panels::MAX_BODY_PANELS`] (8192 = 4 * 2^11) allows 12.
-pub(crate) const MAX_EXTRAPOLATION_LEVELS: usize = 12;
+pub const MAX_EXTRAPOLATION_LEVELS: usize = 12;
 
 /// Most worker threads: each holds its own dense panel system while it solves, and beyond the
 /// machine's cores more threads only add memory.
@@ -60,7 +60,7 @@ pub const MAX_THREADS: usize = 1024;
 /// Most entries of the added-mass table, frequencies times DOFs squared: 16 bytes each in
 /// memory (and as much again for the exciting force and the fit's copy) and about 60 bytes
 /// each as CSV text, 1.2 GB at the limit. The default 9-DOF sweep has 16,281.
-pub(crate) const MAX_TABLE_ENTRIES: usize = 20_000_000;
+pub const MAX_TABLE_ENTRIES: usize = 20_000_000;
 
 /// A size that the parameters of a sweep decide, and its limit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -276,7 +276,7 @@ pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError
 /// ```
 ///
 /// (extend an admissible interior potential by zero into the rectangle: the Rayleigh quotient
-/// `int |grad phi|^2 / int_lid phi^2` is unchanged). Below [`LID_FREE_FRACTION`] of that bound
+/// `int |grad phi|^2 / int_lid phi^2` is unchanged). Below `LID_FREE_FRACTION` of that bound
 /// the wave solves of every level leave the lid out ([`Solver::lid_free_below`]).
 pub struct Solver {
     problems: Vec<Problem>,
@@ -295,7 +295,7 @@ pub struct Solver {
 pub(crate) const LID_FREE_FRACTION: f64 = 0.5;
 
 /// The wavenumber (1/m) below which `mesh`'s interior problem provably has no eigenvalue,
-/// times [`LID_FREE_FRACTION`]: see [`Solver`]. Zero for a mesh without a lid, or one reaching
+/// times `LID_FREE_FRACTION`: see [`Solver`]. Zero for a mesh without a lid, or one reaching
 /// outside the vertical lines through its waterline points (no bound).
 fn lid_free_wavenumber(mesh: &Mesh) -> f64 {
     let xs = mesh.lid.iter().flat_map(|p| [p.start[0], p.end[0]]);
@@ -352,7 +352,7 @@ impl Solver {
     }
 
     /// The wavenumber (1/m) below which the wave solves leave the interior lid out, as the
-    /// first irregular frequency lies far above ([`LID_FREE_FRACTION`] of a proven lower bound,
+    /// first irregular frequency lies far above (`LID_FREE_FRACTION` of a proven lower bound,
     /// see [`Solver`]); 0 where there is no lid or no bound.
     pub fn lid_free_below(&self) -> f64 {
         self.lid_free_below

@@ -26,15 +26,15 @@ pub const MAX_INPUT_BYTES: usize = 64 * 1024 * 1024;
 /// Deepest nesting of elements (the root is at depth 1). Our formats nest at most 4 deep
 /// (`fmiModelDescription/ModelStructure/Outputs/Unknown`); 64 leaves room for vendor
 /// annotations in model descriptions written by other tools.
-pub(crate) const MAX_DEPTH: usize = 64;
+pub const MAX_DEPTH: usize = 64;
 
 /// Most elements in one document: a hull file of 10,000 contour points with 98 elastic modes
 /// (990,000 point and mode-vector elements). Bounds the tree's memory to a few hundred MB.
-pub(crate) const MAX_ELEMENTS: usize = 1_000_000;
+pub const MAX_ELEMENTS: usize = 1_000_000;
 
 /// Most attributes on one element. The richest element we read, `<CoSimulation>` of an FMI 2.0
 /// model description, has 13; the check for repeated names costs the square of this number.
-pub(crate) const MAX_ATTRIBUTES: usize = 256;
+pub const MAX_ATTRIBUTES: usize = 256;
 
 /// Why a document could not be read: the 1-based line and the problem.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -280,7 +280,7 @@ pub(crate) fn unescape(raw: &str) -> Result<String, UnescapeError> {
     unescape_at(raw).map_err(|(offset, message)| UnescapeError { offset, message })
 }
 
-/// A text [`unescape`] refuses: where its bad `&` is, and why.
+/// A text `unescape` refuses: where its bad `&` is, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnescapeError {
     /// Byte offset of the bad `&`.
@@ -303,7 +303,7 @@ impl From<UnescapeError> for String {
     }
 }
 
-/// [`unescape`], with the byte offset of a bad `&` in the error.
+/// `unescape`, with the byte offset of a bad `&` in the error.
 fn unescape_at(raw: &str) -> Result<String, (usize, String)> {
     let mut out = String::with_capacity(raw.len());
     let mut done = 0;

@@ -32,7 +32,7 @@ pub struct Estimate {
 
 /// Most frequencies the median is over: beyond, every `k`-th of the upper half (evenly by
 /// index), which keeps the estimate's cost linear in the grid.
-pub(crate) const MAX_ESTIMATE_FREQUENCIES: usize = 128;
+pub const MAX_ESTIMATE_FREQUENCIES: usize = 128;
 
 /// `PV integral_0^inf b(nu) / (nu^2 - w^2) d nu` for `b` linear between `(nodes, values)`
 /// (`nodes[0] = 0`) and `b_N (w_N / nu)^p` beyond, and the same integral cut at the last

@@ -16,7 +16,7 @@ use std::ops::Range;
 /// (4.3e-11 at 1e6 rad, 9.0e-9 at 5e8 rad): about 1.2e-7 here. No f64 method does much better:
 /// a relative change of one unit roundoff in the stiffness moves the phase by half as many
 /// unit roundoffs.
-pub(crate) const MAX_PHASE_PER_STEP: f64 = 1e9;
+pub const MAX_PHASE_PER_STEP: f64 = 1e9;
 
 /// One block of a [`BlockDiscretizationCache`]: its states, its inputs, `A_j`, `B_j` and its
 /// states' scales.
@@ -218,7 +218,7 @@ impl BlockDiscretizationCache {
 
     /// The blocks of `z' = A z + B u`, block j with the states `blocks[j]` and the inputs
     /// (columns of `B`) `inputs[j]`, each discretized in the coordinates `scale_i z_i`
-    /// ([`discretize_balanced`]; the square roots of a diagonal energy weight). Refused unless
+    /// (`discretize_balanced`; the square roots of a diagonal energy weight). Refused unless
     /// the blocks partition the states and the inputs, `A` couples no two blocks, every column
     /// of `B` is zero outside its block and every scale is finite and positive.
     pub fn new(

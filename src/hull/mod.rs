@@ -61,22 +61,22 @@ pub type Point = [f64; 2];
 
 /// Smallest length a hull may state, in metres: the half-beam, a circle's radius, the
 /// section's size, and each mode's largest displacement (see the module docs, "Limits").
-pub(crate) const MIN_LENGTH: f64 = 1e-6;
+pub const MIN_LENGTH: f64 = 1e-6;
 
 /// Largest magnitude of any length or coordinate of a hull, in metres (module docs, "Limits").
-pub(crate) const MAX_LENGTH: f64 = 1e6;
+pub const MAX_LENGTH: f64 = 1e6;
 
 /// The half-beam lies within this factor of the section's size, either way.
-pub(crate) const MAX_HALF_BEAM_RATIO: f64 = 1e3;
+pub const MAX_HALF_BEAM_RATIO: f64 = 1e3;
 
 /// Most DOFs of a hull.
-pub(crate) const MAX_DOFS: usize = 256;
+pub const MAX_DOFS: usize = 256;
 
 /// Most points of a `<contour>`: every point becomes a panel node, so a contour with more
 /// points than [`crate::panels::MAX_BODY_PANELS`] could never be swept. The contour checks are
 /// linear in the points (a grid, `contact.rs`; every pair of segments took minutes for
 /// 40,000 points before) and bounded by this limit in the worst case.
-pub(crate) const MAX_CONTOUR_POINTS: usize = crate::panels::MAX_BODY_PANELS;
+pub const MAX_CONTOUR_POINTS: usize = crate::panels::MAX_BODY_PANELS;
 
 /// A number as messages print it (plain digits, or an exponent far from 1).
 fn plain(x: f64) -> String {

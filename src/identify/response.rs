@@ -11,10 +11,10 @@ use crate::network::Network;
 
 /// The frequencies a fit accepts (rad/s): wider grids make the vector fit's basis span more
 /// than 24 decades and its least-squares problems lose every digit.
-pub(crate) const FREQUENCY_RANGE: (f64, f64) = (1e-12, 1e12);
+pub const FREQUENCY_RANGE: (f64, f64) = (1e-12, 1e12);
 
 /// The largest frequency over the smallest a fit accepts.
-pub(crate) const MAX_FREQUENCY_RATIO: f64 = 1e12;
+pub const MAX_FREQUENCY_RATIO: f64 = 1e12;
 
 /// The magnitudes (SI) a fit accepts for the largest entry of `A~` and `A_inf`: the fit and
 /// the network it builds square and multiply values (stiffness `m omega^2`, the passivity

@@ -56,7 +56,7 @@ pub(crate) const MAX_STATIONS: usize = 1000;
 pub(crate) const MAX_ELASTIC_MODES: usize = crate::hull::MAX_DOFS - RIGID_DOFS.len();
 
 /// The rigid DOFs of a ship, in order (surge is left out, see the module docs).
-pub(crate) const RIGID_DOFS: [&str; 5] = ["sway", "heave", "roll", "pitch", "yaw"];
+pub const RIGID_DOFS: [&str; 5] = ["sway", "heave", "roll", "pitch", "yaw"];
 
 /// Why a ship could not be built: the file (or description), the line when known, and the
 /// problem.

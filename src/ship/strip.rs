@@ -31,7 +31,7 @@ const GAUSS: [(f64, f64); 8] = crate::numerics::GAUSS_LEGENDRE_8;
 /// Most section solves (distinct sections x frequencies) of one ship sweep: every solve is
 /// kept until the strip integration (a few kB each at 9 section DOFs, so about 1 GB at the
 /// limit) and costs a few ms (about 10 minutes on 2 cores at the limit).
-pub(crate) const MAX_SECTION_SOLVES: usize = 250_000;
+pub const MAX_SECTION_SOLVES: usize = 250_000;
 
 /// Most wave headings of one ship sweep.
 pub const MAX_HEADINGS: usize = crate::waves::MAX_HEADINGS;
@@ -75,7 +75,7 @@ pub struct ShipSweepParams {
 impl ShipSweepParams {
     /// The discretization of `section`: [`ShipSweepParams::panels_with_corners`] for a contour
     /// with corners off its mirror axis (a hull file or offsets turning more than
-    /// [`crate::panels::CORNER_ANGLE`] at a point, [`crate::panels::off_axis_corner_count`]),
+    /// `CORNER_ANGLE` at a point, `off_axis_corner_count`),
     /// [`ShipSweepParams::panels`] for a smooth one (a built-in form, or points along a smooth
     /// curve, a keel on the axis allowed).
     pub fn panels_for(&self, section: &Hull) -> &PanelParams {

@@ -15,7 +15,7 @@
 //! [`ExcitationTable`] and `t0` the start time (`T_ramp = 0`: no ramp).
 //!
 //! - Regular: one component, `a = H / 2`, `omega = 2 pi / T`, `eps = 0`.
-//! - JONSWAP ([`jonswap`], DNV-RP-C205; gamma = 1 is Pierson-Moskowitz): `N` components, one
+//! - JONSWAP (`jonswap`, DNV-RP-C205; gamma = 1 is Pierson-Moskowitz): `N` components, one
 //!   in each of `N` bins over `[0.5, 6] omega_p` (intersected with the table's band), of
 //!   equal weight half by energy and half by width, the frequency uniform inside its bin, `a_n = sqrt(2 S(omega_n) d omega_n)`, the
 //!   phase uniform in `[0, 2 pi)`, all from SplitMix64 seeded by the seed.
@@ -35,9 +35,9 @@ pub use sea::{Sea, SeaScratch};
 #[cfg(test)]
 use spectrum::jonswap;
 pub(crate) use table::write_excitation_rows;
-#[cfg(test)]
-use table::MAX_TABLE_BYTES;
-pub use table::{ExcitationTable, MAX_HEADINGS};
+pub use table::{
+    ExcitationTable, MAX_HEADINGS, MAX_MODES, MAX_ROWS, MAX_TABLE_BYTES, MAX_WAVE_FREQUENCIES,
+};
 
 use std::fmt;
 
@@ -45,7 +45,7 @@ use std::fmt;
 pub const DEFAULT_COMPONENTS: usize = 64;
 
 /// Largest number of JONSWAP components accepted.
-pub(crate) const MAX_COMPONENTS: usize = 10_000;
+pub const MAX_COMPONENTS: usize = 10_000;
 
 /// Tolerance on the heading (degrees): 0 and 180 are accepted within it, modulo 360.
 pub(crate) const HEADING_TOLERANCE: f64 = 1e-9;
@@ -54,7 +54,7 @@ pub(crate) const HEADING_TOLERANCE: f64 = 1e-9;
 /// `1 - 0.287 ln gamma` is for 1..7; measured, the variance falls 3.2 % short of `Hs^2/16` at 8
 /// and 6.9 % at 10 (a warning above 7), 39 % at 20 and 61 % at 25, and the factor is negative
 /// from 32.6.
-pub(crate) const MAX_GAMMA: f64 = 10.0;
+pub const MAX_GAMMA: f64 = 10.0;
 
 /// Why a sea could not be built.
 #[derive(Clone, Debug, PartialEq)]

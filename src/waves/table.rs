@@ -27,13 +27,13 @@ use num_complex::Complex64;
 use std::io::Write;
 
 /// Largest table accepted, in bytes of text (64 MiB).
-pub(crate) const MAX_TABLE_BYTES: usize = 64 << 20;
+pub const MAX_TABLE_BYTES: usize = 64 << 20;
 /// Largest number of data rows accepted.
-pub(crate) const MAX_ROWS: usize = 2_000_000;
+pub const MAX_ROWS: usize = 2_000_000;
 /// Largest number of distinct `kR` values accepted.
-pub(crate) const MAX_WAVE_FREQUENCIES: usize = 100_000;
+pub const MAX_WAVE_FREQUENCIES: usize = 100_000;
 /// Largest number of modes accepted.
-pub(crate) const MAX_MODES: usize = 1000;
+pub const MAX_MODES: usize = 1000;
 /// Largest number of distinct headings accepted.
 pub const MAX_HEADINGS: usize = 16;
 /// Largest length exponent accepted (exponents are integers 0..=4).

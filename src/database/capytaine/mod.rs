@@ -73,7 +73,7 @@ use num_complex::Complex64;
 use variables::{Array, Nc};
 
 /// Largest NetCDF header read, in bytes (Capytaine's are a few kB).
-pub(crate) const MAX_HEADER_BYTES: usize = 256 << 10;
+pub const MAX_HEADER_BYTES: usize = 256 << 10;
 
 /// How to write a file this reader takes, for the messages.
 const HOW_TO_WRITE: &str = "write it as NetCDF-3 with \

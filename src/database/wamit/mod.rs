@@ -41,7 +41,7 @@ use rows::Rows;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Largest file read, in bytes (256 MiB).
-pub(crate) const MAX_FILE_BYTES: u64 = 256 << 20;
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
 /// Largest number of data rows in one file.
 pub(crate) const MAX_ROWS: usize = 5_000_000;
 /// Largest mode index (100 bodies of 6 DOFs, or generalized modes).
