@@ -43,14 +43,14 @@ pub(crate) fn jonswap(omega: f64, hs: f64, tp: f64, gamma: f64) -> f64 {
 
 /// The components of a sea and what was said about them.
 pub(super) struct Components {
-    pub omega: Vec<f64>,
-    pub amplitude: Vec<f64>,
-    pub phase: Vec<f64>,
+    pub(crate) omega: Vec<f64>,
+    pub(crate) amplitude: Vec<f64>,
+    pub(crate) phase: Vec<f64>,
     /// `integral S` over the bins (the expected elevation variance).
-    pub represented_m0: f64,
+    pub(crate) represented_m0: f64,
     /// `integral S` over all frequencies.
-    pub spectrum_m0: f64,
-    pub notes: Vec<String>,
+    pub(crate) spectrum_m0: f64,
+    pub(crate) notes: Vec<String>,
 }
 
 /// Draws the JONSWAP components for `params` over [`SPECTRUM_RANGE`] intersected with `band`
