@@ -84,7 +84,7 @@ pub enum IrregularFrequencies {
     /// Sources on the interior free-surface lid with `d(phi)/dy = 0` there (extended boundary
     /// condition). No effect on closed (submerged) contours, which have no irregular
     /// frequencies. A [`crate::sweep::Solver`] leaves the lid out far below the first
-    /// irregular frequency ([`crate::sweep::LID_FREE_FRACTION`]).
+    /// irregular frequency (`LID_FREE_FRACTION`).
     #[default]
     RemoveWithLid,
 }
@@ -110,7 +110,7 @@ pub struct RadiationSolution {
 pub const HEADINGS: [f64; 2] = [0.0, 180.0];
 
 /// The transverse direction cosines of [`HEADINGS`] (see [`Problem::solve_waves`]).
-pub const HEADING_COSINES: [f64; 2] = [1.0, -1.0];
+pub(crate) const HEADING_COSINES: [f64; 2] = [1.0, -1.0];
 
 /// Exciting forces per unit wave amplitude and per `rho g`, `x_j = X_j / (rho g a)` (m for
 /// a displacement DOF, m^2 for an angle or mode amplitude), one column per entry of
@@ -181,7 +181,7 @@ pub enum BemError {
 }
 
 /// The free-surface condition in words, for messages.
-pub fn describe_surface(surface: FreeSurface) -> String {
+pub(crate) fn describe_surface(surface: FreeSurface) -> String {
     match surface {
         FreeSurface::RigidLid => "the zero-frequency limit (rigid lid)".to_string(),
         FreeSurface::Dirichlet => "the infinite-frequency limit".to_string(),
@@ -820,7 +820,7 @@ fn solve_system(
 /// Most (collocation point, panel) pairs a [`Problem`] prepares for many frequencies (about
 /// 0.3 kB each, 0.3 GB in all, panel means aside): up to about 1450 body and lid panels on a
 /// symmetric hull, 1024 on another. A finer mesh evaluates pair by pair.
-pub const MAX_PREPARED_PAIRS: usize = 1 << 20;
+pub(crate) const MAX_PREPARED_PAIRS: usize = 1 << 20;
 
 /// Pairs of panels closer than this many panel lengths get the panel-averaged potential.
 const NEAR_FIELD_RATIO: f64 = 3.0;

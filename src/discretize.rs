@@ -321,7 +321,7 @@ pub fn discretize(
 /// coefficients. Unscaled, a stage of stiffness k and mass m has `Phi` entries of order
 /// `sqrt(k / m)` and its inverse, and each squaring multiplies the rounding by their ratio:
 /// at `sqrt(k / m) h` = 1e6 the step's value was wrong in sign.
-pub fn discretize_balanced(
+pub(crate) fn discretize_balanced(
     a: &DMatrix<f64>,
     b: &DMatrix<f64>,
     step: f64,

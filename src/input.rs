@@ -173,7 +173,11 @@ impl From<FileError> for String {
 ///
 /// # Errors
 /// The file cannot be read, is not a regular file, or holds more than `max_bytes` bytes.
-pub fn read_bytes(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u8>, ReadError> {
+pub(crate) fn read_bytes(
+    path: &Path,
+    max_bytes: u64,
+    limit_name: &str,
+) -> Result<Vec<u8>, ReadError> {
     let too_large = |found: String| ReadError::TooLarge {
         found,
         limit_name: limit_name.to_string(),
@@ -199,29 +203,33 @@ pub fn read_bytes(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u
     Ok(bytes)
 }
 
-/// As [`read_bytes`], for UTF-8 text.
+/// As `read_bytes`, for UTF-8 text.
 ///
 /// # Errors
-/// As [`read_bytes`], and text that is not UTF-8 (the byte offset named).
-pub fn read_text(path: &Path, max_bytes: u64, limit_name: &str) -> Result<String, ReadError> {
+/// As `read_bytes`, and text that is not UTF-8 (the byte offset named).
+pub(crate) fn read_text(
+    path: &Path,
+    max_bytes: u64,
+    limit_name: &str,
+) -> Result<String, ReadError> {
     String::from_utf8(read_bytes(path, max_bytes, limit_name)?).map_err(|e| ReadError::NotUtf8 {
         offset: e.utf8_error().valid_up_to(),
     })
 }
 
-/// [`read_bytes`] with the error as text (the message does not name the file: the caller
+/// `read_bytes` with the error as text (the message does not name the file: the caller
 /// does).
 ///
 /// # Errors
-/// As [`read_bytes`].
+/// As `read_bytes`.
 pub fn read_bounded(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u8>, String> {
     Ok(read_bytes(path, max_bytes, limit_name)?)
 }
 
-/// [`read_text`] with the error as text.
+/// `read_text` with the error as text.
 ///
 /// # Errors
-/// As [`read_text`].
+/// As `read_text`.
 pub fn read_bounded_text(path: &Path, max_bytes: u64, limit_name: &str) -> Result<String, String> {
     Ok(read_text(path, max_bytes, limit_name)?)
 }

@@ -23,7 +23,7 @@
 //! uniformly in arc length. Contour vertices of hull files become panel nodes where they all
 //! fit ([`PanelParams::vertex_budget`]): each takes the node nearest to it in that spacing, the
 //! nodes between keep their relative spacing. Where they do not, only the corners (turning more
-//! than [`CORNER_ANGLE`]) do and the smooth vertices lie between nodes
+//! than `CORNER_ANGLE`) do and the smooth vertices lie between nodes
 //! ([`Mesh::smooth_vertices_between_nodes`]); with more corners than nodes, those where the
 //! contour turns least are left out and counted ([`Mesh::dropped_vertices`]). A contour
 //! symmetric about a vertical line gets a mesh symmetric to rounding by construction: one half
@@ -56,7 +56,7 @@ pub struct PanelParams {
     pub lid_density: f64,
     /// The panel count whose room decides which contour vertices become nodes. Default
     /// `None`: this mesh's own count. Where all vertices fit, all become nodes; where not,
-    /// only the corners (turning more than [`CORNER_ANGLE`]) do, and the smooth vertices lie
+    /// only the corners (turning more than `CORNER_ANGLE`) do, and the smooth vertices lie
     /// between nodes (a finely described smooth contour is meshed like a smooth curve). A
     /// solver meshing several levels passes its coarsest count, so that every level keeps
     /// the same vertices and the extrapolation sees one geometry converging smoothly.
@@ -77,7 +77,7 @@ impl Default for PanelParams {
 impl PanelParams {
     /// The default parameters for `hull`: [`PanelParams::default`], with more panels for a
     /// closed contour close to the free surface, so that the panels at its top are no longer
-    /// than [`GAP_FRACTION`] of the gap `d` between the top and the surface:
+    /// than `GAP_FRACTION` of the gap `d` between the top and the surface:
     /// `N >= perimeter (1 - clustering) / (GAP_FRACTION d)`, rounded up to a multiple of 4 (the
     /// extrapolation halves N twice).
     pub fn for_hull(hull: &Hull) -> Self {
@@ -110,14 +110,14 @@ impl PanelParams {
 /// node where smooth vertices do not fit ([`PanelParams::vertex_budget`]). A smooth curve
 /// described by points turns far less per point (a Wigley section with 33 points per side
 /// about 3 degrees); a box's chine turns 90.
-pub const CORNER_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
+pub(crate) const CORNER_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
 
 /// Largest panel length at the top of a submerged contour, as a fraction of its gap to the
 /// free surface, in [`PanelParams::for_hull`].
-pub const GAP_FRACTION: f64 = 0.125;
+pub(crate) const GAP_FRACTION: f64 = 0.125;
 
 /// Upper bound of the automatic panel count of [`PanelParams::for_hull`].
-pub const MAX_AUTOMATIC_PANELS: usize = 1024;
+pub(crate) const MAX_AUTOMATIC_PANELS: usize = 1024;
 
 /// Most body panels [`discretize`] accepts. The panel method's system is dense: memory grows
 /// as `N^2` and the factorization as `N^3`. Measured for one frequency on one thread
@@ -182,7 +182,7 @@ pub struct Mesh {
     /// Contour corners that are not panel nodes (more corners than the panel count holds;
     /// those where the contour turns least are left out, cut along a chord).
     pub dropped_vertices: usize,
-    /// Smooth contour vertices (turning less than [`CORNER_ANGLE`]) left between nodes because
+    /// Smooth contour vertices (turning less than `CORNER_ANGLE`) left between nodes because
     /// not all vertices fit ([`PanelParams::vertex_budget`]): the nodes lie on the contour
     /// between them, as on a smooth curve.
     pub smooth_vertices_between_nodes: usize,
@@ -209,7 +209,7 @@ impl Mesh {
     }
 
     /// A physics sanity warning when the longest panel is too coarse for the wavelength at
-    /// `wavenumber` (fewer than [`PANELS_PER_WAVELENGTH`] panels per wavelength), else `None`.
+    /// `wavenumber` (fewer than `PANELS_PER_WAVELENGTH` panels per wavelength), else `None`.
     pub fn wavelength_warning(&self, wavenumber: f64) -> Option<String> {
         let wavelength = 2.0 * std::f64::consts::PI / wavenumber;
         let longest = self.max_panel_length();
@@ -229,7 +229,7 @@ impl Mesh {
 }
 
 /// Fewest panels per wavelength before [`Mesh::wavelength_warning`] warns.
-pub const PANELS_PER_WAVELENGTH: f64 = 10.0;
+pub(crate) const PANELS_PER_WAVELENGTH: f64 = 10.0;
 
 /// Why a hull cannot be discretized.
 #[derive(Clone, Debug, PartialEq)]
@@ -385,14 +385,14 @@ fn contour_vertices(hull: &Hull) -> (f64, Vec<f64>) {
     (offset, vertices)
 }
 
-/// The number of corners of `hull`'s contour (vertices turning more than [`CORNER_ANGLE`])
+/// The number of corners of `hull`'s contour (vertices turning more than `CORNER_ANGLE`)
 /// off its mirror axis. A keel on the axis of a symmetric contour is a node of every mesh of
 /// an even panel count, the same point at every extrapolation level, and does not disturb the
 /// extrapolation (a hull-file Wigley, keel corners of 46 to 146 degrees: 64 panels and 3
 /// levels within 0.19 % of 256 panels, docs/SHIPS.md); corners elsewhere (a box's chines) do.
 /// A contour without any (a built-in form, or a hull file describing a smooth curve by points)
 /// is meshed like a smooth curve where its points outnumber the nodes.
-pub fn off_axis_corner_count(hull: &Hull) -> usize {
+pub(crate) fn off_axis_corner_count(hull: &Hull) -> usize {
     let (offset, vertices) = contour_vertices(hull);
     let closed = hull.is_closed();
     let point = |t: f64| hull.point(contour_parameter(closed, offset, t));

@@ -87,15 +87,15 @@ pub fn check(system: &StateSpace, tolerance: f64) -> PassivityReport {
 
 /// A state-space model `F = C z + D v`, `z' = A z + B v` (the convention of [`StateSpace`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Realization<'a> {
+pub(crate) struct Realization<'a> {
     /// State matrix.
-    pub a: &'a DMatrix<f64>,
+    pub(crate) a: &'a DMatrix<f64>,
     /// Input matrix (hull velocity).
-    pub b: &'a DMatrix<f64>,
+    pub(crate) b: &'a DMatrix<f64>,
     /// Output matrix (force on the hull).
-    pub c: &'a DMatrix<f64>,
+    pub(crate) c: &'a DMatrix<f64>,
     /// Direct feedthrough.
-    pub d: &'a DMatrix<f64>,
+    pub(crate) d: &'a DMatrix<f64>,
 }
 
 impl Realization<'_> {
@@ -113,7 +113,7 @@ impl Realization<'_> {
 }
 
 /// [`check`] for any realization (for instance of a rational fit, before it is a network).
-pub fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
+pub(crate) fn check_realization(system: &Realization, tolerance: f64) -> PassivityReport {
     let states = system.state_count();
     let n = system.input_count();
     // A state matrix whose eigenvalues cannot be computed counts as unstable (not passive).

@@ -276,7 +276,7 @@ pub fn log_grid(min: f64, max: f64, count: usize) -> Result<Vec<f64>, SweepError
 /// ```
 ///
 /// (extend an admissible interior potential by zero into the rectangle: the Rayleigh quotient
-/// `int |grad phi|^2 / int_lid phi^2` is unchanged). Below [`LID_FREE_FRACTION`] of that bound
+/// `int |grad phi|^2 / int_lid phi^2` is unchanged). Below `LID_FREE_FRACTION` of that bound
 /// the wave solves of every level leave the lid out ([`Solver::lid_free_below`]).
 pub struct Solver {
     problems: Vec<Problem>,
@@ -292,10 +292,10 @@ pub struct Solver {
 /// 128 panels is as accurate as the lid one there (3.5e-5 against 3.8e-5 at kR 0.5). Half the
 /// bound keeps clear of the first resonance, where the plain method's error grows (1.2e-4 in
 /// the force at 0.9 of the bound).
-pub const LID_FREE_FRACTION: f64 = 0.5;
+pub(crate) const LID_FREE_FRACTION: f64 = 0.5;
 
 /// The wavenumber (1/m) below which `mesh`'s interior problem provably has no eigenvalue,
-/// times [`LID_FREE_FRACTION`]: see [`Solver`]. Zero for a mesh without a lid, or one reaching
+/// times `LID_FREE_FRACTION`: see [`Solver`]. Zero for a mesh without a lid, or one reaching
 /// outside the vertical lines through its waterline points (no bound).
 fn lid_free_wavenumber(mesh: &Mesh) -> f64 {
     let xs = mesh.lid.iter().flat_map(|p| [p.start[0], p.end[0]]);
@@ -352,7 +352,7 @@ impl Solver {
     }
 
     /// The wavenumber (1/m) below which the wave solves leave the interior lid out, as the
-    /// first irregular frequency lies far above ([`LID_FREE_FRACTION`] of a proven lower bound,
+    /// first irregular frequency lies far above (`LID_FREE_FRACTION` of a proven lower bound,
     /// see [`Solver`]); 0 where there is no lid or no bound.
     pub fn lid_free_below(&self) -> f64 {
         self.lid_free_below

@@ -29,14 +29,14 @@ pub fn wavenumber(omega: f64, g: f64) -> f64 {
 }
 
 /// Wavenumber of a nondimensional frequency: `k = kR / R` (1/m).
-pub fn wavenumber_from_kr(kr: f64, radius: f64) -> f64 {
+pub(crate) fn wavenumber_from_kr(kr: f64, radius: f64) -> f64 {
     kr / radius
 }
 
 /// Scale of the nondimensional added mass: `A~ = rho pi R^2 (A~ / (rho pi R^2))`, computed as
 /// `rho * PI * radius * radius` (kg/m per unit of the nondimensional value). With `rho = 1`
 /// it is the area `pi R^2`.
-pub fn added_mass_scale(rho: f64, radius: f64) -> f64 {
+pub(crate) fn added_mass_scale(rho: f64, radius: f64) -> f64 {
     rho * std::f64::consts::PI * radius * radius
 }
 

@@ -276,11 +276,11 @@ pub fn escape(text: &str) -> String {
 ///
 /// # Errors
 /// [`UnescapeError`], naming the bad `&` and its byte offset.
-pub fn unescape(raw: &str) -> Result<String, UnescapeError> {
+pub(crate) fn unescape(raw: &str) -> Result<String, UnescapeError> {
     unescape_at(raw).map_err(|(offset, message)| UnescapeError { offset, message })
 }
 
-/// A text [`unescape`] refuses: where its bad `&` is, and why.
+/// A text `unescape` refuses: where its bad `&` is, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnescapeError {
     /// Byte offset of the bad `&`.
@@ -303,7 +303,7 @@ impl From<UnescapeError> for String {
     }
 }
 
-/// [`unescape`], with the byte offset of a bad `&` in the error.
+/// `unescape`, with the byte offset of a bad `&` in the error.
 fn unescape_at(raw: &str) -> Result<String, (usize, String)> {
     let mut out = String::with_capacity(raw.len());
     let mut done = 0;

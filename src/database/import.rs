@@ -55,7 +55,7 @@ fn is_netcdf_path(path: &Path) -> bool {
 }
 
 /// The bytes of a regular file of at most [`wamit::MAX_FILE_BYTES`]
-/// ([`crate::input::read_bytes`]).
+/// (`read_bytes`).
 fn read_bounded_bytes(path: &Path) -> Result<Vec<u8>, DatabaseError> {
     crate::input::read_bytes(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
         .map_err(|cause| DatabaseError::unreadable(&path.display().to_string(), cause))

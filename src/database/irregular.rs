@@ -46,7 +46,7 @@ impl Default for SpikeParams {
 
 /// A frequency found to be a spike.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Spike {
+pub(crate) struct Spike {
     /// Index into the grid given.
     pub index: usize,
     /// Why, in words (the entry and its deviation).
@@ -70,7 +70,7 @@ fn lagrange(points: &[(f64, Complex64)], x: f64) -> Complex64 {
 
 /// The spikes of `A~` on the ascending grid `omega`, in the order found. `names` label the
 /// DOFs in the reasons.
-pub fn find(
+pub(crate) fn find(
     omega: &[f64],
     added_mass: &[DMatrix<Complex64>],
     names: &[String],

@@ -218,7 +218,7 @@ impl BlockDiscretizationCache {
 
     /// The blocks of `z' = A z + B u`, block j with the states `blocks[j]` and the inputs
     /// (columns of `B`) `inputs[j]`, each discretized in the coordinates `scale_i z_i`
-    /// ([`discretize_balanced`]; the square roots of a diagonal energy weight). Refused unless
+    /// (`discretize_balanced`; the square roots of a diagonal energy weight). Refused unless
     /// the blocks partition the states and the inputs, `A` couples no two blocks, every column
     /// of `B` is zero outside its block and every scale is finite and positive.
     pub fn new(

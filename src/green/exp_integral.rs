@@ -31,7 +31,8 @@ pub fn scaled_exp_integral(z: Complex64) -> Complex64 {
 /// `E1(z) = int_z^inf e^{-t}/t dt`, principal branch, cut on the negative real axis (the sign
 /// of a zero imaginary part picks the side, see [`scaled_exp_integral`]). Overflows to
 /// infinity for `Re z < -709`.
-pub fn exp_integral_e1(z: Complex64) -> Complex64 {
+#[cfg(test)]
+pub(super) fn exp_integral_e1(z: Complex64) -> Complex64 {
     (-z).exp() * scaled_exp_integral(z)
 }
 

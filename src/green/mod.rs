@@ -98,7 +98,7 @@ mod test_support;
 #[cfg(test)]
 mod tests;
 
-pub use exp_integral::{exp_integral_e1, scaled_exp_integral};
+pub use exp_integral::scaled_exp_integral;
 
 use num_complex::Complex64;
 use panel::{FarGeometry, Panel};

@@ -27,7 +27,7 @@ use std::f64::consts::PI;
 
 /// (w, u, psi) of the beam deflection with coefficients `c` = (C1..C6) at `theta`:
 /// w from eq. 6, u = dw/dtheta, psi = (w'' + w)/R.
-pub fn craig_bampton_fields(c: &[f64; 6], radius: f64, theta: f64) -> (f64, f64, f64) {
+pub(crate) fn craig_bampton_fields(c: &[f64; 6], radius: f64, theta: f64) -> (f64, f64, f64) {
     let (s, co) = theta.sin_cos();
     let w = c[0] + c[1] * theta + c[2] * co + c[3] * s + theta * (c[4] * co + c[5] * s);
     let u = c[1] - c[2] * s + c[3] * co + c[4] * (co - theta * s) + c[5] * (s + theta * co);
@@ -37,7 +37,7 @@ pub fn craig_bampton_fields(c: &[f64; 6], radius: f64, theta: f64) -> (f64, f64,
 
 /// Displacement vector of the beam deflection with coefficients `c` at `theta`:
 /// u (cos theta, sin theta) + w (sin theta, -cos theta).
-pub fn craig_bampton_displacement(c: &[f64; 6], radius: f64, theta: f64) -> Point {
+pub(crate) fn craig_bampton_displacement(c: &[f64; 6], radius: f64, theta: f64) -> Point {
     let (w, u, _) = craig_bampton_fields(c, radius, theta);
     let (s, co) = theta.sin_cos();
     [u * co + w * s, u * s - w * co]
@@ -47,7 +47,7 @@ pub fn craig_bampton_displacement(c: &[f64; 6], radius: f64, theta: f64) -> Poin
 /// radius `radius`: row k-1 is mode `cbk`, the unit value of the k-th of
 /// (u(0), w(0), psi(0), u(pi), w(pi), psi(pi)). Solved from the 6x6 boundary system by LU.
 /// For a radius that is not positive and finite every entry is NaN.
-pub fn craig_bampton_coefficients(radius: f64) -> [[f64; 6]; 6] {
+pub(crate) fn craig_bampton_coefficients(radius: f64) -> [[f64; 6]; 6] {
     let nan = [[f64::NAN; 6]; 6];
     if !(radius.is_finite() && radius > 0.0) {
         return nan;

@@ -88,15 +88,15 @@ const TABLE_INTERVALS: usize = 1024;
 /// A Lewis form: its data and its arc-length table.
 #[derive(Clone)]
 pub(super) struct LewisForm {
-    pub breadth: f64,
-    pub draft: f64,
-    pub area_coefficient: f64,
+    pub(crate) breadth: f64,
+    pub(crate) draft: f64,
+    pub(crate) area_coefficient: f64,
     a1: f64,
     a3: f64,
     scale: f64,
     /// Cumulative arc length at theta_k = -pi/2 + pi k / TABLE_INTERVALS, divided by the total.
     s_of_theta: Vec<f64>,
-    pub length: f64,
+    pub(crate) length: f64,
 }
 
 impl LewisForm {

@@ -52,9 +52,7 @@ mod lewis;
 mod units;
 mod validate;
 
-pub use craig_bampton::{
-    craig_bampton_coefficients, craig_bampton_displacement, craig_bampton_fields,
-};
+pub(crate) use craig_bampton::{craig_bampton_coefficients, craig_bampton_displacement};
 
 use std::f64::consts::PI;
 

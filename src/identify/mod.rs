@@ -20,7 +20,7 @@
 //! weighs every matrix entry by its natural scale, so weak couplings neither dominate nor get
 //! lost. For one DOF it is the constant `s = max |A~|` (the seed's plain error, eq. 17). A DOF
 //! that moves (almost) no water, like the roll of a circle about its centre, has `s_i` raised
-//! to [`SCALE_FLOOR`] times the largest `s_j`, so its entries are fitted in absolute terms.
+//! to `SCALE_FLOOR` times the largest `s_j`, so its entries are fitted in absolute terms.
 //! Reported errors are absolute (`FitReport::max_error`, `rms_error`, in A~ units per entry);
 //! the tolerance is a fraction of the fixed scale `sqrt(s_i s_j)`, so it bounds the absolute
 //! error, not the error relative to each point's value. Default: 1 % (for one DOF: 1 % of the
@@ -166,9 +166,10 @@ mod tests;
 pub mod vector_fitting;
 
 pub use error::IdentifyError;
-pub use params::{CoupledMethod, FitParams, FitReport, DEFAULT_TOLERANCE};
+pub(crate) use params::DEFAULT_TOLERANCE;
+pub use params::{CoupledMethod, FitParams, FitReport};
 
-pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND, SCALE_FLOOR};
+pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND};
 pub use response::{FrequencyResponse, FREQUENCY_RANGE, MAX_FREQUENCY_RATIO, VALUE_RANGE};
 
 use crate::network::{Network, NetworkError, NetworkForm};
@@ -177,7 +178,7 @@ use problem::Problem;
 
 /// Fits a network to `data` (see the module docs): of `params.form`, or of the automatic form
 /// if it is `None`. The report's errors and verdict are those of the network as its file
-/// holds it ([`check_written_network`]).
+/// holds it (`check_written_network`).
 pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, IdentifyError> {
     let mut report = match params.form {
         Some(form) => fit_form(data, params, form),
@@ -192,7 +193,7 @@ pub fn fit(data: &FrequencyResponse, params: &FitParams) -> Result<FitReport, Id
 /// is fitted and the network mapped back ([`Network::with_dof_factors`]); the report is the
 /// mapped network's against `data`. With `f_i = L^(e_i)` (`L` a length, `e_i` the DOF's length
 /// exponent: 1 for a rotation) every entry has the units of a mass, so the fit no longer
-/// depends on the unit of length: the error floor [`SCALE_FLOOR`] compares DOFs of one
+/// depends on the unit of length: the error floor `SCALE_FLOOR` compares DOFs of one
 /// dimension. Without it, a sphere's WAMIT data at a length scale of 1e6 m (translations
 /// 2e23 kg, rotations 7e35 kg m^2) had its translations measured against 1e-6 of the
 /// rotations': its heave went unfitted (94.6 % off) under a verdict of 0.67 %.
@@ -247,7 +248,7 @@ pub fn fit_in_dof_units(
 /// its response compared with `data` at the report's band frequencies, in the report's norm
 /// (each entry's largest error over `error_scale`). A non-finite error is never within the
 /// tolerance.
-pub fn check_written_network(
+pub(crate) fn check_written_network(
     report: &mut FitReport,
     data: &FrequencyResponse,
 ) -> Result<(), IdentifyError> {

@@ -80,7 +80,7 @@ impl Default for FitParams {
 }
 
 /// Default tolerance: 1 % of the scale.
-pub const DEFAULT_TOLERANCE: f64 = 0.01;
+pub(crate) const DEFAULT_TOLERANCE: f64 = 0.01;
 
 /// Result of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]

@@ -232,10 +232,10 @@ pub(super) fn relative_error(max_error: &DMatrix<f64>, error_scale: &DMatrix<f64
 }
 
 /// Smallest DOF scale `s_i`, as a fraction of the largest one (see the module docs).
-pub const SCALE_FLOOR: f64 = 1e-6;
+pub(crate) const SCALE_FLOOR: f64 = 1e-6;
 
 /// The DOF scales of the error measure (module docs): `s_i = max |A~_ii|` over the given
-/// matrices, raised to [`SCALE_FLOOR`] times the largest for a DOF that moves (almost) no
+/// matrices, raised to `SCALE_FLOOR` times the largest for a DOF that moves (almost) no
 /// water. `None` when every `s_i` is zero or NaN (or no matrix is given).
 pub fn dof_scales(added_mass: &[DMatrix<Complex64>]) -> Option<DVector<f64>> {
     let n = added_mass.first()?.nrows();

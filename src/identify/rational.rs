@@ -153,10 +153,10 @@ fn independent_parts(fit: &RationalFit) -> Vec<RationalFit> {
 /// What the rational path found: the order and network chosen, vector fitting iterations,
 /// and notes (orders that failed and why, the orders chosen when none met the tolerance).
 pub(super) struct RationalOutcome {
-    pub order: usize,
-    pub network: Network,
-    pub iterations: usize,
-    pub notes: Vec<String>,
+    pub(crate) order: usize,
+    pub(crate) network: Network,
+    pub(crate) iterations: usize,
+    pub(crate) notes: Vec<String>,
 }
 
 /// One block's order search: its current order, its best fit so far and that fit's order.

@@ -42,7 +42,7 @@ use nalgebra::DMatrix;
 use num_complex::Complex64;
 
 /// `delta` of step 3 relative to the impedance's scale.
-pub const REGULARIZATION: f64 = 1e-8;
+pub(crate) const REGULARIZATION: f64 = 1e-8;
 
 /// Residue singular values below this fraction of the largest are dropped (as in
 /// [`RationalFit::state_count`]).

@@ -159,7 +159,7 @@ impl Network {
 /// `z^T P z` at moderate states): a stiffness of 1e250 N/m^2 read as it was gave an infinite
 /// energy after one step. Products with extreme rho, g and inputs can still overflow; the
 /// component reports those as errors where they occur.
-pub const MAX_COEFFICIENT: f64 = 1e100;
+pub(crate) const MAX_COEFFICIENT: f64 = 1e100;
 
 /// Refuses a network with a number beyond [`MAX_COEFFICIENT`] (or a reference `rho`, `g`
 /// below its inverse), naming it.

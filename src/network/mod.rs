@@ -49,7 +49,6 @@
 mod file;
 mod substructure;
 
-pub use file::MAX_COEFFICIENT;
 pub use substructure::{ImpedanceRealization, Substructure};
 
 use std::fmt;
@@ -58,7 +57,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 /// Version written to and required in the `format_version` attribute of network files.
-pub const NETWORK_FORMAT_VERSION: u32 = 1;
+pub(crate) const NETWORK_FORMAT_VERSION: u32 = 1;
 
 /// Most hull DOFs of a network: a ship's rigid motions with hundreds of girder or generalized
 /// modes fit; `added_mass_inf` then holds a million numbers (8 MB), and the file reader refuses
@@ -67,7 +66,7 @@ pub const MAX_NETWORK_DOFS: usize = 1000;
 
 /// Most stages (auxiliary masses) of one branch. A chain is stepped as one block whose new
 /// step size costs an exponential of twice its stages (cubic); fits use 1 to 12.
-pub const MAX_BRANCH_STAGES: usize = 64;
+pub(crate) const MAX_BRANCH_STAGES: usize = 64;
 
 /// Most states of a whole network (twice the branch stages plus the substructures' springs
 /// and masses). The component keeps dense matrices of this size (32 MB at the limit), and a new

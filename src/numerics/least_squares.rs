@@ -44,13 +44,13 @@ pub enum Termination {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LmResult {
     /// Parameters at the end.
-    pub x: DVector<f64>,
+    pub(crate) x: DVector<f64>,
     /// `|r(x)|^2` (infinite if the start is not finite).
-    pub cost: f64,
+    pub(crate) cost: f64,
     /// Iterations (Jacobian evaluations after the first).
-    pub iterations: usize,
+    pub(crate) iterations: usize,
     /// Why the iteration stopped.
-    pub termination: Termination,
+    pub(crate) termination: Termination,
 }
 
 /// Levenberg-Marquardt from `x0` (see the module docs), at most `max_iterations` iterations,

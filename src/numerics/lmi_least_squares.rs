@@ -23,25 +23,25 @@ use nalgebra::{DMatrix, DVector};
 #[derive(Clone, Copy, Debug)]
 pub struct MatrixInequalities<'a> {
     /// Size n of the symmetric matrices.
-    pub n: usize,
+    pub(crate) n: usize,
     /// The entries `(i, j)`, `i <= j`, one per column of `X`.
-    pub pairs: &'a [(usize, usize)],
+    pub(crate) pairs: &'a [(usize, usize)],
     /// K x N: row k is `psi_k`.
-    pub rows: &'a DMatrix<f64>,
+    pub(crate) rows: &'a DMatrix<f64>,
     /// `delta_k`, one per row.
-    pub margins: &'a [f64],
+    pub(crate) margins: &'a [f64],
 }
 
 /// The result of [`lmi_least_squares`].
 #[derive(Clone, Debug)]
 pub struct LmiSolution {
     /// The coefficients (N x E).
-    pub x: DMatrix<f64>,
+    pub(crate) x: DMatrix<f64>,
     /// The splitting variables and scaled multipliers (K x E each) and the penalty, to
     /// continue from with rows appended.
-    pub state: (DMatrix<f64>, DMatrix<f64>, f64),
+    pub(crate) state: (DMatrix<f64>, DMatrix<f64>, f64),
     /// ADMM iterations made (`max_iterations` if the residuals did not meet the tolerance).
-    pub iterations: usize,
+    pub(crate) iterations: usize,
 }
 
 /// The relative dual residual below which an iterate feasible at half the margins is taken.

@@ -7,9 +7,9 @@
 /// The result of [`nelder_mead`]: the best point seen, its value and the evaluations used.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Minimum {
-    pub x: Vec<f64>,
-    pub value: f64,
-    pub evaluations: usize,
+    pub(crate) x: Vec<f64>,
+    pub(crate) value: f64,
+    pub(crate) evaluations: usize,
 }
 
 /// Minimizes `f` from `start` with a first simplex of `start` and `start + step e_i`, until

@@ -50,10 +50,10 @@ pub use strip::ShipSweepParams;
 use crate::hull::Hull;
 
 /// Most stations of a ship: each may be its own section, swept over every frequency.
-pub const MAX_STATIONS: usize = 1000;
+pub(crate) const MAX_STATIONS: usize = 1000;
 
 /// Most elastic modes of a ship (a ship has at most [`crate::hull::MAX_DOFS`] DOFs in all).
-pub const MAX_ELASTIC_MODES: usize = crate::hull::MAX_DOFS - RIGID_DOFS.len();
+pub(crate) const MAX_ELASTIC_MODES: usize = crate::hull::MAX_DOFS - RIGID_DOFS.len();
 
 /// The rigid DOFs of a ship, in order (surge is left out, see the module docs).
 pub const RIGID_DOFS: [&str; 5] = ["sway", "heave", "roll", "pitch", "yaw"];

@@ -24,9 +24,9 @@ const MAX_OFFSETS: usize = 1000;
 /// One station read from the file.
 #[derive(Debug)]
 pub(super) struct OffsetStation {
-    pub x: f64,
+    pub(crate) x: f64,
     /// The section, or `None` where it encloses no area below the waterline.
-    pub hull: Option<Hull>,
+    pub(crate) hull: Option<Hull>,
 }
 
 /// Free-format tokens with their lines.

@@ -75,7 +75,7 @@ pub struct ShipSweepParams {
 impl ShipSweepParams {
     /// The discretization of `section`: [`ShipSweepParams::panels_with_corners`] for a contour
     /// with corners off its mirror axis (a hull file or offsets turning more than
-    /// [`crate::panels::CORNER_ANGLE`] at a point, [`crate::panels::off_axis_corner_count`]),
+    /// `CORNER_ANGLE` at a point, `off_axis_corner_count`),
     /// [`ShipSweepParams::panels`] for a smooth one (a built-in form, or points along a smooth
     /// curve, a keel on the axis allowed).
     pub fn panels_for(&self, section: &Hull) -> &PanelParams {

@@ -15,7 +15,7 @@
 //! [`ExcitationTable`] and `t0` the start time (`T_ramp = 0`: no ramp).
 //!
 //! - Regular: one component, `a = H / 2`, `omega = 2 pi / T`, `eps = 0`.
-//! - JONSWAP ([`jonswap`], DNV-RP-C205; gamma = 1 is Pierson-Moskowitz): `N` components, one
+//! - JONSWAP (`jonswap`, DNV-RP-C205; gamma = 1 is Pierson-Moskowitz): `N` components, one
 //!   in each of `N` bins over `[0.5, 6] omega_p` (intersected with the table's band), of
 //!   equal weight half by energy and half by width, the frequency uniform inside its bin, `a_n = sqrt(2 S(omega_n) d omega_n)`, the
 //!   phase uniform in `[0, 2 pi)`, all from SplitMix64 seeded by the seed.
@@ -31,8 +31,9 @@ mod sea;
 mod spectrum;
 mod table;
 
-pub use sea::{Sea, SeaScratch, RESYNC_INTERVAL};
-pub use spectrum::{jonswap, SPECTRUM_RANGE};
+pub use sea::{Sea, SeaScratch};
+#[cfg(test)]
+use spectrum::jonswap;
 pub(crate) use table::write_excitation_rows;
 pub use table::{
     ExcitationTable, MAX_HEADINGS, MAX_MODES, MAX_ROWS, MAX_TABLE_BYTES, MAX_WAVE_FREQUENCIES,
@@ -47,7 +48,7 @@ pub const DEFAULT_COMPONENTS: usize = 64;
 pub const MAX_COMPONENTS: usize = 10_000;
 
 /// Tolerance on the heading (degrees): 0 and 180 are accepted within it, modulo 360.
-pub const HEADING_TOLERANCE: f64 = 1e-9;
+pub(crate) const HEADING_TOLERANCE: f64 = 1e-9;
 
 /// The largest JONSWAP peak enhancement accepted. DNV-RP-C205's normalization
 /// `1 - 0.287 ln gamma` is for 1..7; measured, the variance falls 3.2 % short of `Hs^2/16` at 8
@@ -260,7 +261,7 @@ impl WaveParams {
 
 /// Whether two headings (degrees) are one direction: equal modulo 360 within
 /// [`HEADING_TOLERANCE`].
-pub fn same_direction(a: f64, b: f64) -> bool {
+pub(crate) fn same_direction(a: f64, b: f64) -> bool {
     let d = (a - b).rem_euclid(360.0);
     d.min(360.0 - d) <= HEADING_TOLERANCE
 }

@@ -22,7 +22,7 @@ use num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// Steps between two direct resynchronizations of the phasors.
-pub const RESYNC_INTERVAL: usize = 512;
+pub(crate) const RESYNC_INTERVAL: usize = 512;
 
 /// Lanes of the sums (arrays are padded with zero components to a multiple).
 const LANES: usize = 4;

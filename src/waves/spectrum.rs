@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 /// The frequency range of a JONSWAP sea, as multiples of the peak frequency `wp`. Outside it
 /// lies `A_gamma (e^-20 + 1 - e^(-5/4 / 6^4))` Hs^2/16, i.e. 9.6e-4 of m0 for gamma = 1 and
 /// 6.3e-4 for gamma = 3.3 (Pierson-Moskowitz tails in closed form).
-pub const SPECTRUM_RANGE: (f64, f64) = (0.5, 6.0);
+pub(crate) const SPECTRUM_RANGE: (f64, f64) = (0.5, 6.0);
 
 /// Fine intervals for the spectrum's cumulative integral (at least; 8 per component above).
 const FINE_INTERVALS: usize = 8192;
@@ -28,7 +28,7 @@ const FINE_INTERVALS: usize = 8192;
 /// The JONSWAP spectral density `S(omega)` (m^2 s) of DNV-RP-C205 for significant height
 /// `hs` (m), peak period `tp` (s) and peak enhancement `gamma` (module docs). Returns 0 for
 /// `omega <= 0`; the other arguments are not checked (see [`WaveParams::validate`]).
-pub fn jonswap(omega: f64, hs: f64, tp: f64, gamma: f64) -> f64 {
+pub(crate) fn jonswap(omega: f64, hs: f64, tp: f64, gamma: f64) -> f64 {
     if omega.is_nan() || omega <= 0.0 {
         return 0.0;
     }
@@ -43,14 +43,14 @@ pub fn jonswap(omega: f64, hs: f64, tp: f64, gamma: f64) -> f64 {
 
 /// The components of a sea and what was said about them.
 pub(super) struct Components {
-    pub omega: Vec<f64>,
-    pub amplitude: Vec<f64>,
-    pub phase: Vec<f64>,
+    pub(crate) omega: Vec<f64>,
+    pub(crate) amplitude: Vec<f64>,
+    pub(crate) phase: Vec<f64>,
     /// `integral S` over the bins (the expected elevation variance).
-    pub represented_m0: f64,
+    pub(crate) represented_m0: f64,
     /// `integral S` over all frequencies.
-    pub spectrum_m0: f64,
-    pub notes: Vec<String>,
+    pub(crate) spectrum_m0: f64,
+    pub(crate) notes: Vec<String>,
 }
 
 /// Draws the JONSWAP components for `params` over [`SPECTRUM_RANGE`] intersected with `band`

@@ -43,7 +43,7 @@ use std::collections::{BTreeMap, BTreeSet};
 /// Largest file read, in bytes (256 MiB).
 pub const MAX_FILE_BYTES: u64 = 256 << 20;
 /// Largest number of data rows in one file.
-pub const MAX_ROWS: usize = 5_000_000;
+pub(crate) const MAX_ROWS: usize = 5_000_000;
 /// Largest mode index (100 bodies of 6 DOFs, or generalized modes).
 pub const MAX_MODE_INDEX: usize = 600;
 /// Largest number of matrix entries kept (frequencies x modes^2): 800 MB of complex numbers.
@@ -80,7 +80,9 @@ pub enum FrequencyColumn {
 /// # Errors
 /// A declared column this reader does not take (3 and 4: nondimensional wavenumbers), or an
 /// unreadable value, naming the line.
-pub fn frequency_column_of_cfg(source: Source) -> Result<Option<FrequencyColumn>, DatabaseError> {
+pub(crate) fn frequency_column_of_cfg(
+    source: Source,
+) -> Result<Option<FrequencyColumn>, DatabaseError> {
     let mut found = None;
     for (index, line) in source.text.lines().enumerate() {
         let Some((key, value)) = line.split_once('=') else {
@@ -237,7 +239,7 @@ pub fn length_exponent(mode: usize) -> u8 {
 }
 
 /// The DOF name of mode index `mode` (1-based): `surge` .. `yaw`, then `mode7`, `mode8`, ...
-pub fn mode_name(mode: usize) -> String {
+pub(crate) fn mode_name(mode: usize) -> String {
     match RIGID_MODES.get(mode.wrapping_sub(1)) {
         Some(name) => (*name).to_string(),
         None => format!("mode{mode}"),
