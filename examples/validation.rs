@@ -317,7 +317,7 @@ fn main() {
     );
     let _ = writeln!(
         doc,
-        "`A~(sway, cb_j)`: the force in x when the hull moves in mode j. Modes follow DESIGN.md \
+        "`A~(sway, cb_j)`: the force in x when the hull moves in mode j. Modes follow docs/DESIGN.md \
          (derived from the boundary problem; `cb1..cb6` = unit u(0), w(0), psi(0), u(pi), w(pi), psi(pi)).\n"
     );
     let mut real = Figure::new("Re A~(sway, cb j) / (rho pi R^2)", "kR", "real part");

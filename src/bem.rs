@@ -1,4 +1,4 @@
-//! The source panel method (seed eq. 10 and 13): radiation potentials and the complex added
+//! The source panel method (Schilder et al., eq. 10 and 13): radiation potentials and the complex added
 //! mass matrix at one frequency.
 //!
 //! The potential of DOF `j` is a distribution of constant-strength sources on the panels,
@@ -25,7 +25,7 @@
 //!
 //! # Exciting force of incident waves
 //! At a wave frequency the same factorization also gives the exciting force of a regular wave
-//! of amplitude `a` and heading 0 (towards +x) or 180 (towards -x), DESIGN.md "Waves and
+//! of amplitude `a` and heading 0 (towards +x) or 180 (towards -x), docs/DESIGN.md "Waves and
 //! hydrostatics". With the incident potential `phi_0 = (i g a / omega) psi_0`,
 //! `psi_0 = e^{k y -+ i k x}`, the force per `rho g a` is
 //!
@@ -59,7 +59,7 @@
 //! lid instead also removes the resonances, but makes the interior potential jump at the
 //! waterline corners and does not converge (measured: 0.465 against 0.497 for the sway added
 //! mass at kR = 0.5, at every panel count). The two frequency limits have no irregular
-//! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is the seed's
+//! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is Schilder et al.'s
 //! plain method.
 
 mod linear;
@@ -79,7 +79,7 @@ use std::time::{Duration, Instant};
 /// How irregular frequencies are treated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum IrregularFrequencies {
-    /// The seed's plain source method: spikes near the interior eigenfrequencies.
+    /// Schilder et al.'s plain source method: spikes near the interior eigenfrequencies.
     Keep,
     /// Sources on the interior free-surface lid with `d(phi)/dy = 0` there (extended boundary
     /// condition). No effect on closed (submerged) contours, which have no irregular

@@ -11,11 +11,11 @@
 //! `dE/dt = -F . q' - D`: the water network can never return more energy to the hull than the
 //! hull put in (passivity), and the symmetric matrices give `H(s) = H(s)^T` (reciprocity).
 //!
-//! # Augmented matrices (seed eq. 19 layout)
+//! # Augmented matrices (Schilder et al., eq. 19 layout)
 //!
 //! [`Network::augmented_matrices`]: coordinates `[q (n); aux masses (branch by branch, stage by
 //! stage)]`; the hull block of the mass matrix holds `m0 = A_inf` (the body's own mass is NOT
-//! included: the master adds it). Seed eq. 19: `diag(m + m0, m1, m2)`, the chain's `C` and `K`.
+//! included: the master adds it). Schilder et al., eq. 19: `diag(m + m0, m1, m2)`, the chain's `C` and `K`.
 //!
 //! # State space (without the drifting hull coordinate)
 //!
@@ -46,7 +46,7 @@ use num_complex::Complex64;
 
 use crate::network::{Network, NetworkError, Stage};
 
-/// Augmented mass, damping and stiffness matrices (seed eq. 19 layout, hull DOFs first).
+/// Augmented mass, damping and stiffness matrices (Schilder et al., eq. 19 layout, hull DOFs first).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AugmentedMatrices {
     /// `diag(A_inf, aux masses)`.
@@ -236,7 +236,7 @@ impl Network {
         (incidence, stages)
     }
 
-    /// Augmented `M`, `C`, `K` over `[q; aux masses]` (seed eq. 19; body mass not included),
+    /// Augmented `M`, `C`, `K` over `[q; aux masses]` (Schilder et al., eq. 19; body mass not included),
     /// for the branches; a network with substructures is refused (a relaxed spring has no
     /// place in `M`, `C`, `K`).
     pub fn augmented_matrices(&self) -> Result<AugmentedMatrices, NetworkError> {
@@ -517,7 +517,7 @@ mod tests {
 
     #[test]
     fn seed_impulse_response_reaches_common_velocity() {
-        // Seed eq. 19 with body mass m = 1 and a unit impulse on the body.
+        // Schilder et al., eq. 19 with body mass m = 1 and a unit impulse on the body.
         let net = seed_network();
         let aug = net.augmented_matrices().unwrap();
         let mut mass = aug.mass.clone();

@@ -1,5 +1,5 @@
 //! Frequency sweeps: the complex added mass on a grid of nondimensional frequencies `kR`,
-//! computed in parallel, plus the two limits, and the coefficient table of DESIGN.md.
+//! computed in parallel, plus the two limits, and the coefficient table of docs/DESIGN.md.
 //!
 //! Everything here is nondimensional: frequencies as `kR = omega^2 R / g`, added mass as
 //! `A~_ij / (rho pi R^2)`. A frequency whose solve fails is reported in
@@ -20,7 +20,7 @@
 //! (heave, `cb2`, `cb5`) diverge like `-(flux_i flux_j / (pi^2 R^2)) ln kR` and are left out.
 //!
 //! Every wave frequency also gives the exciting force of regular waves from headings 0 and 180
-//! ([`crate::bem`]), nondimensional as in DESIGN.md: `X_j / (rho g a R^(1 + e_j))`, `e_j` the
+//! ([`crate::bem`]), nondimensional as in docs/DESIGN.md: `X_j / (rho g a R^(1 + e_j))`, `e_j` the
 //! DOF's length exponent ([`Hull::dof_unit`]). Its long-wave limit (`kR = 0` rows) is the
 //! hydrostatic one, `X_j -> rho g a integral_C n_j ds`: the scattered wave vanishes with k.
 

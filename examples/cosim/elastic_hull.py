@@ -33,7 +33,7 @@ Structure (per metre of hull, SI; Schilder et al.'s setup of section 2 (docs/DES
   bending stiffness, about a 3 % shift of its frequency. It is the same in both solutions, so
   the coupling error is unaffected.
 
-Compared: dry and wet modes (eigenvalues of seed eq. 19 with the structure, wet ones tracked
+Compared: dry and wet modes (eigenvalues of Schilder et al., eq. 19 with the structure, wet ones tracked
 from the dry ones while the water density grows from 0), the frequency response of the
 breathing mode, and the free response from an initial breathing deformation eta1 = 5 cm
 (co-simulation under fmpy and libcosimpy against the monolithic eq. 19 solution).
@@ -79,7 +79,7 @@ def _w_basis(theta: float) -> np.ndarray:
 
 
 def _end_values(theta: float, radius: float) -> np.ndarray:
-    """Rows u = w', w, psi = (w'' + w) / R at theta (seed eq. 5)."""
+    """Rows u = w', w, psi = (w'' + w) / R at theta (Schilder et al., eq. 5)."""
     f = _w_basis(theta)
     return np.array([f[1], f[0], (f[2] + f[0]) / radius])
 
@@ -306,7 +306,7 @@ def figure(series, steps_s, duration, st, network, dry, wet) -> pathlib.Path:
     h = steps_s[-1]
     t = np.arange(len(series["dry"])) * h
     top.plot(t, series["dry"][:, 3] * 100, color="0.6", lw=1.0, label="dry (no water)")
-    top.plot(t, series[("mono", h)][:, 3] * 100, "k-", lw=1.2, label="wet, monolithic (seed eq. 19)")
+    top.plot(t, series[("mono", h)][:, 3] * 100, "k-", lw=1.2, label="wet, monolithic (Schilder et al., eq. 19)")
     h_co = steps_s[0]
     tc = np.arange(len(series[("ramp", h_co)])) * h_co
     label = f"wet, co-simulation (ramp, h = {h_co} s)"

@@ -50,14 +50,14 @@ A~ and X from `fmu-pack sweep SHIP --omega 0.2:5:200 --headings 180 --panels 128
 2-node mode: the frequency-dependent eigenproblem det[K + i Omega C - Omega^2 (M_s + A~(Omega))]
 = 0 (A~ continued to the complex root to first order, iterated), the receptance peak |vb1 / f_vb1| (frequency and
 half-power width, A~ interpolated between the table's frequencies), and the eigenvalue of the
-coupled structure + network (seed eq. 19), beside the dry frequency.
+coupled structure + network (Schilder et al., eq. 19), beside the dry frequency.
 
 Time domain (hydrocosim.cosimulate under fmpy, scheme "ramp", h = 0.02 s, 78 steps per wet
 2-node period): (a) regular head waves, amplitude 0.1 m, wave.ramp 20 s, 600 s; the RAO is the
 least-squares harmonic of the last 60 s; (b) free decay in calm water from vb1 = 0.05 (5 cm at
 the ends), at rest: a damped cosine fitted to vb1(t) gives the wet frequency and damping ratio;
 once with the structural damping and once without it (the water's own share); the same fit on
-the monolithic solution (seed eq. 19) separates the coupling error from the fit's.
+the monolithic solution (Schilder et al., eq. 19) separates the coupling error from the fit's.
 
 The FMU's table holds heading 180 only, and wave.heading starts at 0: the master sets the
 heading before the other wave parameters (the FMU refuses any wave parameter while the heading
@@ -283,7 +283,7 @@ def wet_mode_table(st: hc.Structure, omegas, added, mode: int = 2, iterations: i
 
 
 def wet_mode_network(st: hc.Structure, network: hc.Network, near: complex) -> complex:
-    """The eigenvalue of structure + network (seed eq. 19) nearest `near`."""
+    """The eigenvalue of structure + network (Schilder et al., eq. 19) nearest `near`."""
     values = np.linalg.eigvals(hc.coupled_system(st, network))
     return values[np.argmin(np.abs(values - near))]
 

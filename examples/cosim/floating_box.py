@@ -51,7 +51,7 @@ potential flow leaves out): its free roll, which any start excites, decays as e^
 A steady state in the plain sense would take hours, and at the resonance itself the RAO is set by
 a damping that the fit (1 % of |A~|) does not resolve. So (1) no beam-sea frequency is taken in
 0.8 .. 1.1 rad/s, and (2) the fit takes out the free modes that have not died out by the window:
-the eigenvalues lambda of the coupled body + network (seed eq. 19) with Im lambda > 0 and
+the eigenvalues lambda of the coupled body + network (Schilder et al., eq. 19) with Im lambda > 0 and
 exp(Re lambda t_window) > 1e-6, as terms Re[d e^(lambda t)] beside the wave's harmonic (a linear
 system's response is exactly the steady harmonic plus its modes). Only the roll mode (0.948 rad/s,
 damping ratio 1.6e-3 in the network) qualifies; in head seas the symmetric body does not roll and

@@ -259,7 +259,7 @@ class Network:
         return out + sum((sub.realization()[3] for sub in self.substructures), np.zeros_like(out))
 
     def augmented_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Seed eq. 19: M, C, K over [q; aux] (hull block of M = A_inf, no body mass), for the
+        """Schilder et al., eq. 19: M, C, K over [q; aux] (hull block of M = A_inf, no body mass), for the
         branches; the substructures are first-order states (coupled_system).
 
         Spring j's elongation is e_j = x_j - d^T q (first stage) or x_j - x_(j-1)."""
@@ -363,7 +363,7 @@ class Structure:
 
 
 def coupled_system(structure: Structure, network: Network) -> np.ndarray:
-    """Seed eq. 19 with the structure, as y' = A y over y = [p; x; p'; x'; z]: structure
+    """Schilder et al., eq. 19 with the structure, as y' = A y over y = [p; x; p'; x'; z]: structure
     coordinates p, branch aux positions x, substructure states z. Returns A."""
     t = structure.to_hull
     nq, np_ = t.shape
@@ -402,7 +402,7 @@ def coupled_system(structure: Structure, network: Network) -> np.ndarray:
 
 
 def monolithic(structure: Structure, network: Network, p0, h: float, steps: int) -> np.ndarray:
-    """Seed eq. 19 with the structure: p(t_n), n = 0..steps, t_n = n h; starts at rest at p0."""
+    """Schilder et al., eq. 19 with the structure: p(t_n), n = 0..steps, t_n = n h; starts at rest at p0."""
     t = structure.to_hull
     np_ = t.shape[1]
     na, nz = network.aux_count, network.substructure_states

@@ -16,7 +16,7 @@ k = (m + A_inf) (2 pi / 4 s)^2. Released at rest from x0 = 0.1 m:
 
     (m + A_inf) x'' + D x' + k x = F + D x'     co-simulation: F = force.sway from the FMU,
                                                 A_inf = added_mass_inf, D = damping_direct
-    seed eq. 19 with m and k added to x's row   monolithic reference, solved exactly
+    Schilder et al., eq. 19 with m and k added to x's row   monolithic reference, solved exactly
 
 Masters: fmpy's FMU2Slave and libcosimpy, both driven by the Python loop of
 hydrocosim.cosimulate (schemes "zoh" and "ramp"); docs/COSIMULATION.md explains them.
@@ -129,7 +129,7 @@ def figure(series, steps_s, duration) -> pathlib.Path:
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)
     h = max(steps_s)
     t = np.arange(len(series[("mono", h)])) * h
-    top.plot(t, series[("mono", h)], "k-", lw=1.2, label="monolithic (seed eq. 19, exact)")
+    top.plot(t, series[("mono", h)], "k-", lw=1.2, label="monolithic (Schilder et al., eq. 19, exact)")
     top.plot(t[::2], series[("zoh", h)][::2], "o", ms=3, mfc="none", color="C3", label=f"co-simulation, zoh, h = {h} s")
     top.plot(t[1::2], series[("ramp", h)][1::2], "x", ms=3, color="C0", label=f"co-simulation, ramp, h = {h} s")
     top.set_ylabel("sway x (m)")

@@ -111,7 +111,7 @@ impl SwayScene {
         }
     }
 
-    /// Monolithic seed eq. 19: body + network augmented M, C, K, plus the spring, released
+    /// Monolithic Schilder et al., eq. 19: body + network augmented M, C, K, plus the spring, released
     /// from the offset with every network spring unstretched. Exact at the sample times.
     fn monolithic(&self, network: &Network, h: f64, steps: usize) -> Vec<f64> {
         let aug = network.augmented_matrices().expect("branches only");

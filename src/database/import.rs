@@ -257,7 +257,7 @@ pub fn finish(
     let heave = database.dof_names.iter().position(|d| d == "heave");
     if let (Some(h), false) = (heave, database.excitation.is_empty()) {
         // A crest of height a lifts the pressure by rho g a everywhere: the force of the body
-        // moved down by a, -C_j3 (-a) (DESIGN.md, "Waves and hydrostatics"); exact for rigid
+        // moved down by a, -C_j3 (-a) (docs/DESIGN.md, "Waves and hydrostatics"); exact for rigid
         // modes. Without a restoring (C_33 = 0) the long-wave limit stays unknown.
         let c = &database.stiffness_hydrostatic;
         if c[(h, h)] > 0.0 {

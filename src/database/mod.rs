@@ -1,5 +1,5 @@
 //! A whole-body hydrodynamic database in SI: what a ship's strip theory computes and what an
-//! imported 3D database (WAMIT, Capytaine) holds, in the product's conventions (DESIGN.md,
+//! imported 3D database (WAMIT, Capytaine) holds, in the product's conventions (docs/DESIGN.md,
 //! "Ships and imported 3D databases"):
 //!
 //! - complex added mass `A~_ij(omega) = a_ij(omega) - i b_ij(omega) / omega` (kg, kg m,
@@ -8,7 +8,7 @@
 //!   `eta = a cos(omega t - k (x cos beta + y sin beta))`;
 //! - hydrostatic restoring `C_ij` (buoyancy part, N/m, N, N m).
 //!
-//! The tables written from it are those of DESIGN.md; [`Database::response`] is what the
+//! The tables written from it are those of docs/DESIGN.md; [`Database::response`] is what the
 //! identification fits.
 
 pub mod added_mass_inf;
@@ -24,7 +24,7 @@ use nalgebra::DMatrix;
 use num_complex::Complex64;
 use std::io::Write;
 
-/// Whole-body coefficients in SI (DESIGN.md, "Ships and imported 3D databases").
+/// Whole-body coefficients in SI (docs/DESIGN.md, "Ships and imported 3D databases").
 #[derive(Clone, Debug)]
 pub struct Database {
     /// Body name (the ship's, or the imported file's stem).
@@ -56,7 +56,7 @@ pub struct Database {
     /// heading): `rho g integral n_j dS`, the hydrostatic pressure of the wave's crest; `None`
     /// when unknown.
     pub excitation_long_wave: Option<Vec<f64>>,
-    /// Hydrostatic restoring (N/m, N, N m), buoyancy part (DESIGN.md).
+    /// Hydrostatic restoring (N/m, N, N m), buoyancy part (docs/DESIGN.md).
     pub stiffness_hydrostatic: DMatrix<f64>,
     /// Reference length R of the excitation table's `kR` (a ship: the largest section
     /// half-beam; an import: ULEN; a section's 1 m slice: 1), m.
@@ -217,7 +217,7 @@ impl Database {
         writeln!(out, "# g: {} m/s^2", readable(self.g))
     }
 
-    /// The added-mass table of DESIGN.md ("Ships"): `omega,i,j,re,im`, `omega = inf` rows
+    /// The added-mass table of docs/DESIGN.md ("Ships"): `omega,i,j,re,im`, `omega = inf` rows
     /// for `A_inf`, then one block per frequency.
     ///
     /// # Errors

@@ -15,7 +15,7 @@
 //! One currency: the [`Database`] carries what a ship's or an import's does (DOF names and
 //! units, added mass, `A_inf`, exciting force and its Froude-Krylov part, the long-wave limit,
 //! restoring, failures, warnings, notes), every value per unit length, as its
-//! [`Database::source`] says. The section's nondimensional tables (DESIGN.md: `kR = omega^2 R /
+//! [`Database::source`] says. The section's nondimensional tables (docs/DESIGN.md: `kR = omega^2 R /
 //! g`, `A~ / (rho pi R^2)`, `X_j / (rho g a R^(1 + e_j))`) are exports of it
 //! ([`SectionDatabase::write_table`], [`SectionDatabase::write_excitation_table`]), written from
 //! the nondimensional sweep it keeps: the SI values are symmetrized and scaled, and dividing
@@ -267,7 +267,7 @@ impl SectionDatabase {
         self.sweep.reference_half_beam
     }
 
-    /// The nondimensional added-mass table of DESIGN.md (`kR,i,j,re,im`, values
+    /// The nondimensional added-mass table of docs/DESIGN.md (`kR,i,j,re,im`, values
     /// `A~ / (rho pi R^2)`), the bytes [`SweepResult::write_csv`] writes.
     ///
     /// # Errors
@@ -276,7 +276,7 @@ impl SectionDatabase {
         self.sweep.write_csv(out)
     }
 
-    /// The nondimensional excitation table of DESIGN.md (`kR,j,heading,re,im`, values
+    /// The nondimensional excitation table of docs/DESIGN.md (`kR,j,heading,re,im`, values
     /// `X_j / (rho g a R^(1 + e_j))`) of the total force or its Froude-Krylov part, the bytes
     /// [`SweepResult::write_excitation_csv`] writes.
     ///

@@ -3,7 +3,7 @@
 use super::*;
 use nalgebra::DVector;
 
-/// The seed's 2-DOF network (hull held): z = [e1, e2, w1, w2].
+/// Schilder et al.'s 2-DOF network (hull held): z = [e1, e2, w1, w2].
 fn seed_system() -> (DMatrix<f64>, DMatrix<f64>) {
     let (m1, k1, c1, m2, k2, c2) = (0.5434, 0.2339, 0.9962, 0.1877, 0.5522, 0.2453);
     let a = DMatrix::from_row_slice(
@@ -217,7 +217,7 @@ fn cache_keeps_recent_steps() {
 
 #[test]
 fn blocks_reproduce_the_whole_system_and_coupling_is_refused() {
-    // Two copies of the seed chain, interleaved, each driven by its own input: the block
+    // Two copies of Schilder et al.'s chain, interleaved, each driven by its own input: the block
     // step must equal the full system's step (same exact discretization, to rounding).
     let (a1, b1) = seed_system();
     let order = [0usize, 5, 2, 7, 1, 3, 6, 4];
@@ -272,7 +272,7 @@ fn blocks_reproduce_the_whole_system_and_coupling_is_refused() {
 
 #[test]
 fn a_block_with_several_inputs_steps_like_the_whole_system() {
-    // Block 0: the seed chain driven by two inputs (columns 0 and 1), block 1: the same
+    // Block 0: Schilder et al.'s chain driven by two inputs (columns 0 and 1), block 1: the same
     // chain scaled, driven by input 2.
     let (a1, b1) = seed_system();
     let mut a = DMatrix::zeros(8, 8);

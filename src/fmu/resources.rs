@@ -87,7 +87,7 @@ impl Resources {
         }
     }
 
-    /// The same resources with the exciting force table `text` (DESIGN.md's excitation
+    /// The same resources with the exciting force table `text` (docs/DESIGN.md's excitation
     /// table), or without one.
     pub fn with_excitation(self, text: Option<String>) -> Resources {
         Resources {

@@ -1,4 +1,4 @@
-//! Deep-water two-dimensional free-surface Green function (seed eq. 11-12, after Damaren 2000),
+//! Deep-water two-dimensional free-surface Green function (Schilder et al., eq. 11-12, after Damaren 2000),
 //! its gradient, its two frequency limits, the complex exponential integral `E1`, and exact
 //! integrals over straight source panels.
 //!
@@ -7,7 +7,7 @@
 //! factor `exp(+i omega t)`, wavenumber `k = omega^2 / g`. Points are `[x, y]`.
 //!
 //! # The Green function
-//! Potential at the field point `x` of a unit source at `x0` (seed eq. 11-12):
+//! Potential at the field point `x` of a unit source at `x0` (Schilder et al., eq. 11-12):
 //! ```text
 //! G(x, x0) = (1/2pi) ln(r0/r1) - (1/pi) Re{e^{kz} E1(kz)} + i e^{kz}
 //! r0 = |x - x0|,  r1 = |x - x0*|,  x0* = (x0, -y0),  z = (y + y0) - i |x - x0|

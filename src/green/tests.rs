@@ -1,4 +1,4 @@
-//! Tests of the point Green function (seed eq. 11, gradient, harmonicity, free-surface
+//! Tests of the point Green function (Schilder et al., eq. 11, gradient, harmonicity, free-surface
 //! conditions, radiation, reciprocity, frequency limits) and timings.
 
 use super::exp_integral::EULER_GAMMA;
@@ -30,7 +30,7 @@ fn new_validates_wavenumber() {
     assert_eq!(g.surface(), FreeSurface::Wave { wavenumber: 2.0 });
 }
 
-/// Seed eq. 11 literally, with F = e^z E1(z) from `scaled_exp_integral`.
+/// Schilder et al., eq. 11 literally, with F = e^z E1(z) from `scaled_exp_integral`.
 fn seed_eq_11(k: f64, x: Point, x0: Point) -> Complex64 {
     let r0 = (x[0] - x0[0]).hypot(x[1] - x0[1]);
     let r1 = (x[0] - x0[0]).hypot(x[1] + x0[1]);

@@ -13,7 +13,7 @@
 //! ([`craig_bampton_coefficients`]). Rigid motions in terms of the modes (exact, tested):
 //! sway = cb1 - cb4, heave = -cb2 + cb5, roll about the origin = R cb2 + cb3 + R cb5 + cb6.
 //!
-//! Table 1 of the seed paper does not match these directly: after theta -> -theta (negating
+//! Table 1 of Schilder et al. does not match these directly: after theta -> -theta (negating
 //! C2, C4, C5) its rows 1, 3, 4, 6 are -cb4, cb6, cb1, cb3 and its row 5 is cb5, while its
 //! printed row 2 is exactly minus row 5, so the printed set has rank 5 and cannot be complete.
 //! Row 5 with C3 = 1 added would be cb2; the test `seed_table_1_after_theta_flip` pins this.

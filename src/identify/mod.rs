@@ -1,5 +1,5 @@
 //! Identification of a passive equivalent mass-spring-damper network from the complex added
-//! mass `A~(omega)` (seed, section 4).
+//! mass `A~(omega)` (Schilder et al., section 4).
 //!
 //! # Target and error
 //!
@@ -9,7 +9,7 @@
 //! `H(s) = A_inf + sum_b d_b d_b^T G_b(s)`, and the force on the hull by the water is
 //! `F = -s^2 H(s) q`, the same map as `F = -s^2 A~ q` (Cummins' equation with `s = i omega`), so
 //! `H(i omega)` must approximate `A~(omega)`. `m0 = A_inf` is taken from the data and never
-//! fitted (seed: `H(s -> inf) = m0`). The fit minimizes the seed's error (eq. 17),
+//! fitted (Schilder et al.: `H(s -> inf) = m0`). The fit minimizes Schilder et al.'s error (eq. 17),
 //!
 //! ```text
 //! e = sum_omega sum_ij [ (Re A~_ij - Re H_ij)^2 + (Im A~_ij - Im H_ij)^2 ] / (s_i s_j),
@@ -18,7 +18,7 @@
 //!
 //! over the frequency points inside `FitParams::band`. The normalization by `sqrt(s_i s_j)`
 //! weighs every matrix entry by its natural scale, so weak couplings neither dominate nor get
-//! lost. For one DOF it is the constant `s = max |A~|` (the seed's plain error, eq. 17). A DOF
+//! lost. For one DOF it is the constant `s = max |A~|` (Schilder et al.'s plain error, eq. 17). A DOF
 //! that moves (almost) no water, like the roll of a circle about its centre, has `s_i` raised
 //! to `SCALE_FLOOR` times the largest `s_j`, so its entries are fitted in absolute terms.
 //! Reported errors are absolute (`FitReport::max_error`, `rms_error`, in A~ units per entry);

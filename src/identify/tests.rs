@@ -56,7 +56,7 @@ fn one_dof(added_mass_inf: f64, branches: Vec<Vec<Stage>>, form: NetworkForm) ->
     }
 }
 
-/// The seed's 2-DOF chain (nondimensional), moved to rho = 1025 and g = 9.81.
+/// Schilder et al.'s 2-DOF chain (nondimensional), moved to rho = 1025 and g = 9.81.
 fn seed_chain() -> Network {
     one_dof(
         0.1153,
@@ -653,7 +653,7 @@ fn bad_input_gives_clear_errors() {
     assert!(two.select(&["yaw"]).is_err());
 }
 
-/// Reads the coefficient table of DESIGN.md (values per rho pi R^2, R = 1 m) as SI data
+/// Reads the coefficient table of docs/DESIGN.md (values per rho pi R^2, R = 1 m) as SI data
 /// with rho = 1025, g = 9.81; `kR = inf` rows give A_inf, `kR = 0` rows are skipped.
 fn read_coefficient_table(text: &str) -> Result<FrequencyResponse, String> {
     let mut modes: Vec<String> = Vec::new();

@@ -2,7 +2,7 @@
 
 use super::*;
 
-/// The seed paper's 2-DOF network (the shipped example file).
+/// Schilder et al.'s 2-DOF network (the shipped example file).
 pub(crate) const SEED_NETWORK: &str = include_str!("../../examples/networks/seed_2dof.xml");
 
 /// A coupled 2-DOF network (sway, roll) at rho = g = 1.
@@ -52,7 +52,7 @@ pub(crate) fn model(network: &str, keep_inf_mass: bool) -> Model {
     Model::new(&network, options).unwrap()
 }
 
-/// The seed network at rho, g.
+/// Schilder et al.'s network at rho, g.
 pub(crate) fn seed(rho: f64, g: f64) -> Model {
     let mut m = model(SEED_NETWORK, false);
     m.set_parameters(rho, g).unwrap();
@@ -61,7 +61,7 @@ pub(crate) fn seed(rho: f64, g: f64) -> Model {
 
 #[test]
 fn seed_impulse_response_reaches_the_common_velocity() {
-    // Figure 7 of the seed: body m = 1 (+ m0) with unit impulse, explicit coupling with
+    // Figure 7 of Schilder et al.: body m = 1 (+ m0) with unit impulse, explicit coupling with
     // a small step; final velocity 1 / (m + m0 + m1 + m2) (momentum conservation).
     let mut model = seed(1.0, 1.0);
     let (m, m0) = (1.0, 0.1153);

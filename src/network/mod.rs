@@ -4,7 +4,7 @@
 //!
 //! # The network
 //!
-//! The water around the hull is replaced by a mechanical network (seed, section 4, Figure 5).
+//! The water around the hull is replaced by a mechanical network (Schilder et al., section 4, Figure 5).
 //! The hull has `n` generalized coordinates `q` (one per DOF). Rigidly attached to them is the
 //! mass matrix `m0 = A_inf` (n x n, symmetric positive semi-definite). Further there is a set of
 //! *branches*. Branch `b` acts along a direction `d_b` (an n-vector; a unit vector `e_j` for the
@@ -28,7 +28,7 @@
 //! H(s) = A_inf + sum_b d_b d_b^T G_b,1(s).
 //! ```
 //!
-//! `H(s)` is the seed's `H~(s) = F / (s^2 x_0)` (eq. 16) for every DOF pair: the force on the
+//! `H(s)` is Schilder et al.'s `H~(s) = F / (s^2 x_0)` (eq. 16) for every DOF pair: the force on the
 //! hull by the water is `F = -s^2 H(s) q`, and in the time domain (Cummins)
 //! `F(t) = -A_inf q'' - int_0^t K(t - tau) q'(tau) dtau`. So `H(i omega)` is the network's complex
 //! added mass `A~(omega) = a - i b / omega`. Limits: `H(inf) = A_inf` (the springs decouple the
@@ -84,7 +84,7 @@ const MATRIX_TOLERANCE: f64 = 1e-9;
 /// The shape of an equivalent network.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum NetworkForm {
-    /// One DOF, one branch: a chain of masses (seed Figure 5).
+    /// One DOF, one branch: a chain of masses (Schilder et al., Figure 5).
     SeriesChain,
     /// One DOF, several branches of one mass each.
     ParallelBank,

@@ -3,7 +3,7 @@
 use super::*;
 use std::path::Path;
 
-/// The seed's 2-DOF chain (after eq. 19), nondimensional.
+/// Schilder et al.'s 2-DOF chain (after eq. 19), nondimensional.
 pub(crate) fn seed_network() -> Network {
     Network {
         substructures: Vec::new(),
@@ -75,7 +75,7 @@ fn seed_chain_limits_match_eq16() {
     assert!((big - 0.1153).norm() < 1e-6, "{big}");
     let zero = net.added_mass_zero()[(0, 0)];
     assert!((zero - (0.1153 + 0.5434 + 0.1877)).abs() < 1e-14);
-    // One-stage chain equals the seed's closed form (16) at an arbitrary s.
+    // One-stage chain equals Schilder et al.'s closed form (16) at an arbitrary s.
     let (m0, m1, k1, c1) = (0.1153, 0.5434, 0.2339, 0.9962);
     let one = Network {
         branches: vec![Branch {
@@ -333,7 +333,7 @@ fn seed_example_file_holds_the_seed_network() {
 
 #[test]
 fn coefficients_beyond_the_magnitude_limit_are_refused_naming_them() {
-    // One stage of the seed network's form, with one number replaced.
+    // One stage of Schilder et al.'s network form, with one number replaced.
     let text = |m: &str, k: &str, c: &str, a_inf: &str, direction: &str, rho: &str| {
         format!(
             r#"<network format_version="1" form="series_chain" rho="{rho}" g="1">

@@ -45,7 +45,7 @@ fn fitted_networks_are_passive_at_every_frequency() {
 
 #[test]
 fn a_negative_damping_is_found_with_its_crossing_frequencies() {
-    // Z - delta I: Re Z(omega) = b(omega) of the seed's sway chain rises from 0 (omega = 0) to
+    // Z - delta I: Re Z(omega) = b(omega) of Schilder et al.'s sway chain rises from 0 (omega = 0) to
     // its first damper at high frequency; below delta it is negative. The crossings are where
     // b(omega) = delta, found here by bisection on the transfer function.
     let mut s = system(SEED);

@@ -1,7 +1,7 @@
 //! Ships by zero-speed strip theory: stations along the ship, each with a 2D section, and the
 //! ship's generalized DOFs as motions of every section.
 //!
-//! # Axes and DOFs (DESIGN.md, "Ships")
+//! # Axes and DOFs (docs/DESIGN.md, "Ships")
 //! x forward, y to port, z up, origin on the mean free surface. A section's 2D frame is the
 //! ship's (y, z) plane seen from the bow: 2D x = ship y, 2D y = ship z, 2D roll = ship roll
 //! about +x. The ship's DOF `r` moves the section at station `x` by a sway `v_r(x)` (+y), a

@@ -1,4 +1,4 @@
-//! The sweep's tables (DESIGN.md): the added-mass table `kR,i,j,re,im` and the excitation
+//! The sweep's tables (docs/DESIGN.md): the added-mass table `kR,i,j,re,im` and the excitation
 //! table `kR,j,heading,re,im`, both nondimensional, with their commented header; and a sweep
 //! restricted to some of its DOFs.
 
@@ -89,7 +89,7 @@ impl SweepResult {
             .collect()
     }
 
-    /// Writes the excitation table of DESIGN.md: the added-mass table's header lines, the
+    /// Writes the excitation table of docs/DESIGN.md: the added-mass table's header lines, the
     /// DOFs' length exponents, then `kR,j,heading,re,im` with `re, im = X_j / (rho g a
     /// R^(1 + e_j))`; the long-wave `kR = 0` rows first, then the frequencies in ascending
     /// order, each with headings 0 and 180 and every DOF.
@@ -175,7 +175,7 @@ impl SweepResult {
         Ok(())
     }
 
-    /// Writes the coefficient table of DESIGN.md: a commented header, then `kR,i,j,re,im`
+    /// Writes the coefficient table of docs/DESIGN.md: a commented header, then `kR,i,j,re,im`
     /// with one row per matrix entry, `kR = inf` rows (A_inf), the finite `kR = 0` rows, and the
     /// frequency rows in ascending order.
     pub fn write_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {

@@ -156,7 +156,7 @@ def test_fmu_added_mass_of_rigid_motions_equals_that_of_their_craig_bampton_imag
     scale = np.max(np.abs(a_inf))
     assert np.max(np.abs(direct.T @ a_inf @ direct - image.T @ a_inf @ image)) < 1e-6 * scale
     assert np.max(np.abs(direct.T @ a_inf @ image - direct.T @ a_inf @ direct)) < 1e-6 * scale
-    # Semicircle: A_inf sway = 2 rho R^2 / pi, heave = rho pi R^2 / 2, roll = 0 (DESIGN.md).
+    # Semicircle: A_inf sway = 2 rho R^2 / pi, heave = rho pi R^2 / 2, roll = 0 (docs/DESIGN.md).
     rho = network.rho
     assert a_inf[0, 0] == pytest.approx(2 * rho / np.pi, rel=2e-3)
     assert a_inf[1, 1] == pytest.approx(rho * np.pi / 2, rel=2e-3)

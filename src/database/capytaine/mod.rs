@@ -22,7 +22,7 @@
 //! restoring, with a warning); every other variable above must be there.
 //!
 //! Conventions. Capytaine's time factor is `exp(-i omega t)`, ours `exp(+i omega t)`
-//! (DESIGN.md); its added mass `a` and damping `b` are real, its exciting force `X_c` is per
+//! (docs/DESIGN.md); its added mass `a` and damping `b` are real, its exciting force `X_c` is per
 //! unit wave amplitude, all in SI at the file's `rho_f`, `g_f`. With the caller's `rho`, `g`
 //! ([`WamitParams::rho`], [`WamitParams::g`]):
 //!

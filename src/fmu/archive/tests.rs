@@ -2,7 +2,7 @@ use super::*;
 use crate::fmu::inspect::{inspect, read_entry};
 use std::io::Read;
 
-/// The seed paper's 2-DOF network (the shipped example file).
+/// Schilder et al.'s 2-DOF network (the shipped example file).
 const SEED: &str = include_str!("../../../examples/networks/seed_2dof.xml");
 
 fn temp_dir(tag: &str) -> PathBuf {

@@ -1,6 +1,6 @@
 //! A bounded mutation fuzzer of the state bytes, run by `cargo test`.
 //!
-//! Valid state bytes of three components (the seed chain with a ramped input and a stop time;
+//! Valid state bytes of three components (Schilder et al.'s chain with a ramped input and a stop time;
 //! the two-DOF network with a substructure keeping `A_inf`, with accelerations; the two-DOF
 //! network in a regular wave) are mutated: bit flips, byte overwrites, f64 and u64 fields
 //! overwritten with extreme values, u32 overwrites, truncation, extension. Nine cases in ten

@@ -70,7 +70,7 @@ pub(crate) fn tampered(m: &Model, bytes: &[u8], field: StateField, value: [u8; 8
     resealed(bad)
 }
 
-/// The seed network at rho = 1025, g = 9.81 after two steps of 0.25 s at 0.7 m/s, and its
+/// Schilder et al.'s network at rho = 1025, g = 9.81 after two steps of 0.25 s at 0.7 m/s, and its
 /// state bytes (tag 2).
 fn stepped() -> (Model, Vec<u8>) {
     let mut m = seed(1025.0, 9.81);
