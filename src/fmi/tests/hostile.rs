@@ -3,7 +3,7 @@
 //!
 //! Every `unsafe` block frees a component made by [`instantiate`].
 
-use super::tests::{callbacks, instantiate, Log, Unpacked};
+use super::{callbacks, instantiate, Log, Unpacked};
 use super::*;
 use crate::model::Resources;
 

@@ -4,12 +4,15 @@
 //! [`instantiate`] (or NULL or foreign memory where the test says so) and pointers to live
 //! locals with the entry counts passed.
 
+use super::ffi::*;
+use super::phase::Phase;
+use super::types::*;
+use super::uri::resource_path;
 use super::*;
-use crate::fmi2::phase::Phase;
-use crate::fmi2::uri::resource_path;
 use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, LOG_CATEGORIES, VR_G, VR_RHO};
 use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
 use crate::model::Resources;
+use std::ffi::{c_char, CStr, CString};
 use std::ffi::{c_int, c_void};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
