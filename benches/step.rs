@@ -8,7 +8,7 @@
 //! convolution`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use hydrofmu::fmi2::*;
+use hydrofmu::fmi::*;
 use hydrofmu::fmu::description::{
     FIRST_PER_HULL_REFERENCE, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_PERIOD,
 };

@@ -27,7 +27,7 @@
 //! from the exciting forces the sweep computes with the added mass.
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
-//! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID) and [`fmi2`] (the
+//! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID) and [`fmi`] (the
 //! exported C functions of FMI 2.0 and of FMI 3.0, over one instance) make the FMU. [`units`] and [`xml`] support every stage.
 //!
 //! Conventions (every module): 2D, per unit length of hull, SI units; x to the right, y up,
@@ -40,7 +40,7 @@
 pub mod bem;
 pub mod database;
 pub mod discretize;
-pub mod fmi2;
+pub mod fmi;
 pub mod fmu;
 pub mod green;
 pub mod hull;

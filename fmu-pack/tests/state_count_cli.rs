@@ -81,7 +81,7 @@ fn summary_inspect_scene_and_log_give_the_state_vector_length() {
         "once for the archive, once in its scene: {inspected}"
     );
     assert!(!inspected.contains("state size"), "{inspected}");
-    let mut instance = hydrofmu::fmi2::Instance::from_resources(c"log", &resources, true).unwrap();
+    let mut instance = hydrofmu::fmi::Instance::from_resources(c"log", &resources, true).unwrap();
     let log: Vec<String> = instance
         .take_messages()
         .into_iter()

@@ -9,7 +9,7 @@
 //! Every scalar (parameters, `velocity.<dof>`, `force.<dof>`, ...) keeps its name, value
 //! reference, unit and causality, so a master sees the same ports in both standards.
 
-use crate::fmi2::{Function, Standard};
+use crate::fmi::{Function, Standard};
 use crate::fmu::description::{DescriptionInfo, PARAMETERS};
 use crate::fmu::variables::{Causality, Layout, Quantity, VariablesError};
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};

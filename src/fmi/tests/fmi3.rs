@@ -5,9 +5,9 @@
 //! [`instantiate3`] (or NULL or another standard's instance where the test says so) and
 //! pointers to live locals with the entry counts passed.
 
-use super::tests::{callbacks, get, ready, set, Log, Unpacked};
 use super::*;
-use crate::fmi2::phase::Phase;
+use super::{callbacks, get, ready, set, Log, Unpacked};
+use crate::fmi::phase::Phase;
 use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
 use crate::fmu::VR_TIME;
 use crate::model::tests::SEED_NETWORK;

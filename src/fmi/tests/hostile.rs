@@ -3,8 +3,8 @@
 //!
 //! Every `unsafe` block frees a component made by [`instantiate`].
 
-use super::tests::{callbacks, instantiate, Log, Unpacked};
 use super::*;
+use super::{callbacks, instantiate, Log, Unpacked};
 use crate::model::Resources;
 
 /// Instantiates `network` in a thread with a 512 KiB stack (a master's worker thread) and

@@ -7,9 +7,9 @@
 //! "stepComplete").
 
 use super::{same_length, Instance};
-use crate::fmi2::logging::Category;
-use crate::fmi2::phase::{Function, Standard};
-use crate::fmi2::types::Status;
+use crate::fmi::logging::Category;
+use crate::fmi::phase::{Function, Standard};
+use crate::fmi::types::Status;
 use crate::fmu::Fmi3Reference;
 use crate::model::Resources;
 use std::ffi::CStr;
@@ -30,7 +30,7 @@ impl Instance {
         let dir = resource_dir.ok_or("resourcePath is NULL or not UTF-8")?;
         // A file: URI is accepted too (some importers pass one).
         let dir = if dir.starts_with("file:") {
-            crate::fmi2::resource_path(dir)?
+            crate::fmi::resource_path(dir)?
         } else {
             Path::new(dir).to_path_buf()
         };
@@ -58,7 +58,7 @@ impl Instance {
     ) -> Status {
         self.run(Function::EnterInitializationMode, |inst| {
             inst.set_experiment(start_time, stop_time)?;
-            inst.phase = crate::fmi2::Phase::InitializationMode;
+            inst.phase = crate::fmi::Phase::InitializationMode;
             Ok(Status::Ok)
         })
     }
@@ -165,7 +165,7 @@ impl Instance {
     /// A call of a type this FMU has no variables of (`like` gives the phases: a getter or a
     /// setter): only an empty `vr` succeeds.
     pub fn no_variables_fmi3(&mut self, name: &'static str, like: Function, vr: &[u32]) -> Status {
-        let refuse = !crate::fmi2::allowed(like).contains(self.phase);
+        let refuse = !crate::fmi::allowed(like).contains(self.phase);
         let first = self.messages.len();
         let status = if refuse {
             self.log(
@@ -183,7 +183,7 @@ impl Instance {
                 .trim_start_matches("fmi3Set");
             let message = format!("{name}: this FMU has no {kind} variables (value reference {r})");
             self.log(Status::Error, Category::Error, message);
-            self.phase = crate::fmi2::Phase::Error;
+            self.phase = crate::fmi::Phase::Error;
             Status::Error
         } else {
             Status::Ok

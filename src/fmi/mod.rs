@@ -1,16 +1,19 @@
-//! The FMI 2.0 co-simulation interface, in two depths, and FMI 3.0's over the same instance.
+//! The FMI co-simulation interface: one safe instance and phase table, and one thin C layer
+//! per standard (FMI 2.0 and FMI 3.0).
 //!
-//! FMI 3.0 (docs/FMI3.md): the `fmi3...` functions (`abi/fmi3.rs`) call the same
+//! FMI 3.0 (docs/FMI3.md): the `fmi3...` functions (`fmi3.rs`) call the same
 //! [`Instance`], made through `fmi3InstantiateCoSimulation` ([`Instance::instantiate_fmi3`];
 //! its messages name the FMI 3.0 functions, [`Standard`]); the matrices are array variables
 //! and `time` a variable ([`crate::fmu::fmi3`]). FMI 3.0 co-simulation without event mode has
 //! the FMI 2.0 state machine, so the phase table below serves both.
 //!
-//! - The C layer (module `abi`, see "C layer" below): the 34 common and co-simulation
-//!   functions, exported unprefixed (`fmi2Instantiate`, `fmi2DoStep`, ...). The only module
-//!   with `unsafe` code: it checks the pointers the master passes, turns them into slices
-//!   and strings, catches panics and calls the safe layer. An `fmi2Component` is a boxed
-//!   [`Instance`] (with the copied callbacks); there is no global state.
+//! - The C layers (see "C layer" below): `fmi2.rs`, the 34 common and co-simulation
+//!   functions of FMI 2.0, and `fmi3.rs`, those of FMI 3.0, exported unprefixed
+//!   (`fmi2Instantiate`, `fmi3DoStep`, ...), over the shared helpers of `ffi.rs` (pointer
+//!   checks, panic guard, logger forwarding). These three modules are the only ones with
+//!   `unsafe` code: they check the pointers the master passes, turn them into slices and
+//!   strings, catch panics and call the safe layer. A component is a boxed [`Instance`]
+//!   (with the copied callbacks); there is no global state.
 //! - [`Instance`]: one FMU instance as safe methods on slices, one per FMI function, with
 //!   the phase rules of [`allowed`] (one table, next to the FMI 2.0 state table), the error
 //!   rules and the log messages. The model ([`crate::model`]) never sees FMI types.
@@ -54,16 +57,25 @@
 //! magic number (a foreign or freed one is refused), and catches panics.
 
 #[allow(unsafe_code)]
-mod abi;
+mod ffi;
+#[allow(unsafe_code)]
+mod fmi2;
+#[allow(unsafe_code)]
+mod fmi3;
 mod instance;
 mod logging;
 mod phase;
 mod types;
 mod uri;
 
-pub use abi::*;
+pub use fmi2::*;
+pub use fmi3::*;
 pub use instance::{Instance, Snapshot};
 pub use logging::{Category, Message};
 pub use phase::{allowed, Function, Phase, PhaseSet, Standard};
 pub use types::*;
 pub use uri::resource_path;
+
+#[cfg(test)]
+#[allow(unsafe_code)]
+mod tests;

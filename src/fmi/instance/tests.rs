@@ -2,7 +2,7 @@
 //! error rules, the log messages and the FMU states.
 
 use super::*;
-use crate::fmi2::types::{fmi2DoStepStatus, fmi2ModelExchange};
+use crate::fmi::types::{fmi2DoStepStatus, fmi2ModelExchange};
 use crate::fmu::description::{FIRST_PER_HULL_REFERENCE, VR_G, VR_RHO};
 use crate::model::tests::{SEED_NETWORK, TWO_DOF_NETWORK};
 

@@ -11,10 +11,23 @@
 //!
 //! An instance made by `fmi3InstantiateCoSimulation` carries its own magic number: the
 //! FMI 2.0 functions refuse it and the FMI 3.0 functions refuse an FMI 2.0 component.
-#![allow(non_camel_case_types, non_upper_case_globals)]
+#![deny(unsafe_op_in_unsafe_fn)]
+#![deny(clippy::undocumented_unsafe_blocks)]
+#![allow(
+    non_camel_case_types,
+    non_upper_case_globals,
+    non_snake_case,
+    clippy::missing_safety_doc
+)]
 
-use super::*;
-use std::ffi::c_void;
+use super::ffi::*;
+use super::fmi2::*;
+use super::instance::Instance;
+use super::logging::{Category, Message};
+use super::phase::Function;
+use super::types::*;
+use std::ffi::{c_char, c_void, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// `fmi3Instance`.
 pub type fmi3Instance = *mut c_void;
@@ -48,31 +61,6 @@ pub type fmi3LogMessageCallback = unsafe extern "C" fn(
     category: fmi3String,
     message: fmi3String,
 );
-
-/// Passes one message to an FMI 3.0 logger (plain text, no format).
-pub(super) fn log(
-    logger: Option<fmi3LogMessageCallback>,
-    environment: fmi3InstanceEnvironment,
-    message: &Message,
-) {
-    let Some(logger) = logger else { return };
-    let Ok(text) = CString::new(message.text.replace('\0', " ")) else {
-        return;
-    };
-    let Ok(category) = CString::new(message.category.name()) else {
-        return;
-    };
-    // SAFETY: the importer gave this logger for this purpose; the strings are valid and
-    // NUL-terminated for the duration of the call.
-    unsafe {
-        logger(
-            environment,
-            message.status.code(),
-            category.as_ptr(),
-            text.as_ptr(),
-        )
-    };
-}
 
 /// [`call_of`] for an FMI 3.0 instance.
 ///
@@ -166,7 +154,7 @@ fn refuse_instantiation(
         category: Category::Error,
         text: format!("{name}: {text}"),
     };
-    log(logger, environment, &message);
+    log_fmi3(logger, environment, &message);
     std::ptr::null_mut()
 }
 
