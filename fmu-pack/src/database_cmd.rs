@@ -12,12 +12,6 @@ use hydrofmu::scene::Band;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// True when `argument` names a database file by its extension (`.1`, or `.nc` for a
-/// Capytaine NetCDF-3 dataset).
-pub fn is_database_file(argument: &str) -> bool {
-    import::is_database_path(Path::new(argument))
-}
-
 /// The import parameters of the command line; the section and ship options refused.
 fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
     let refused = [

@@ -7,6 +7,7 @@ use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
 use hydrofmu::network::NetworkForm;
 use hydrofmu::scene::Scene;
+use hydrofmu::source::Source;
 use hydrofmu::sweep::SweepParams;
 use hydrofmu::units;
 use std::fmt::Write as _;
@@ -80,12 +81,10 @@ const DEFAULT_BAND: &str = "0.05:5";
 
 /// Runs the sweep and the fit, and reports.
 pub fn run(args: &FitArgs) -> Result<(), String> {
-    let whole_body = if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
-        Some(false)
-    } else if crate::database_cmd::is_database_file(&args.sweep.hull) {
-        Some(true)
-    } else {
-        None
+    let whole_body = match Source::from_argument(&args.sweep.hull) {
+        Ok(Source::ShipFile(_)) => Some(false),
+        Ok(source) if source.is_import() => Some(true),
+        _ => None,
     };
     if let Some(imported) = whole_body {
         let unsupported = [("--form", args.form.is_some())];

@@ -7,6 +7,7 @@ use crate::pipeline::{self, Built};
 use crate::sweep_cmd::HullSweepArgs;
 use hydrofmu::fmu::{self, osp, Archive, ArchiveError, Body, SceneDocumentation};
 use hydrofmu::scene::{Band, Scene, SceneReport};
+use hydrofmu::source::Source;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -199,11 +200,11 @@ impl fmt::Display for PackSummary {
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     // The archive's folder, before the sweep and the fit.
     crate::output::check_folder(&args.output)?;
-    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
-        return crate::ship_cmd::pack(args);
-    }
-    if crate::database_cmd::is_database_file(&args.sweep.hull) {
-        return crate::database_cmd::pack(args);
+    match Source::from_argument(&args.sweep.hull) {
+        Ok(Source::ShipFile(_)) => return crate::ship_cmd::pack(args),
+        Ok(source) if source.is_import() => return crate::database_cmd::pack(args),
+        // A section, or an argument that names nothing: the section's resolve says why.
+        _ => {}
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let hull = Body::section(&resolved);

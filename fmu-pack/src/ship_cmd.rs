@@ -14,16 +14,6 @@ use hydrofmu::ship::{self, Ship, ShipSweepParams};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// True when `argument` names a file whose top-level element is `<ship>`.
-pub fn is_ship_file(argument: &str) -> bool {
-    let path = Path::new(argument);
-    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
-    hydrofmu::input::read_bounded_text(path, limit, "MAX_INPUT_BYTES")
-        .ok()
-        .and_then(|text| hydrofmu::xml::parse(&text).ok())
-        .is_some_and(|root| root.name == "ship")
-}
-
 /// Comma-separated headings in degrees.
 fn parse_headings(text: &str) -> Result<Vec<f64>, String> {
     text.split(',')

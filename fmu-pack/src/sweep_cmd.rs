@@ -10,6 +10,7 @@ use hydrofmu::database::section::SectionDatabase;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::scene::Scene;
+use hydrofmu::source::Source;
 use hydrofmu::sweep::{self, ExcitationPart, SweepParams};
 use hydrofmu::xml::{format_number, Notation};
 use std::path::PathBuf;
@@ -239,11 +240,11 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     {
         output::check_folder(path)?;
     }
-    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
-        return crate::ship_cmd::run(args);
-    }
-    if crate::database_cmd::is_database_file(&args.sweep.hull) {
-        return crate::database_cmd::run(args);
+    match Source::from_argument(&args.sweep.hull) {
+        Ok(Source::ShipFile(_)) => return crate::ship_cmd::run(args),
+        Ok(source) if source.is_import() => return crate::database_cmd::run(args),
+        // A section, or an argument that names nothing: the section's resolve says why.
+        _ => {}
     }
     let (hull, mut params) = args.sweep.resolve()?;
     let exports = args.wamit.is_some() || args.netcdf.is_some();
