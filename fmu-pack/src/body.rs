@@ -1,10 +1,10 @@
 //! The whole-body commands shared by ship files (strip theory, docs/SHIPS.md) and imported 3D
 //! databases (docs/DATABASES.md): the tables of a [`Database`], its fit and its archive.
 
+use crate::args::{PackArgs, SweepArgs};
 use crate::output;
-use crate::pack::{locate_binary, pack_network, PackArgs, PackError, PackSummary, PackedNetwork};
+use crate::packing::{locate_binary, pack_network, PackError, PackSummary, PackedNetwork};
 use crate::pipeline;
-use crate::sweep_cmd::SweepArgs;
 use hydrofmu::database::wamit::WamitFiles;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::Body;
@@ -274,10 +274,10 @@ pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError>
     let binary = locate_binary(args.binary.as_deref())?;
     let identifier = match &args.model_identifier {
         Some(id) => id.clone(),
-        None => crate::pack::identifier_from_path(&args.output),
+        None => crate::packing::identifier_from_path(&args.output),
     };
     let network = PackedNetwork::from_network(fitted.fit.network.clone());
-    let target = crate::pack::Target {
+    let target = crate::packing::Target {
         binary: &binary,
         model_identifier: &identifier,
         output: &args.output,

@@ -2,9 +2,10 @@
 //! Capytaine's `export_to_wamit`, BEMRosetta or HAMS write them, or a Capytaine NetCDF-3
 //! dataset) to the whole-body tables, fit and FMU (docs/DATABASES.md).
 
+use crate::args::PackArgs;
+use crate::args::{HullSweepArgs, SweepArgs};
 use crate::body::{self, BodyFit};
-use crate::pack::{PackArgs, PackError, PackSummary};
-use crate::sweep_cmd::{HullSweepArgs, SweepArgs};
+use crate::packing::{PackError, PackSummary};
 use hydrofmu::database::import::{self, ImportParams};
 use hydrofmu::database::wamit::FrequencyColumn;
 use hydrofmu::database::Database;

@@ -1,11 +1,12 @@
 //! `fmu-pack sweep SHIP.xml`: the whole-ship tables of a ship file by strip theory
 //! (docs/SHIPS.md).
 
+use crate::args::PackArgs;
+use crate::args::{parse_grid, HullSweepArgs, SweepArgs};
 use crate::body::{self, BodyFit};
 use crate::output;
-use crate::pack::{PackArgs, PackError, PackSummary};
+use crate::packing::{PackError, PackSummary};
 use crate::progress::Progress;
-use crate::sweep_cmd::{parse_grid, HullSweepArgs, SweepArgs};
 use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
