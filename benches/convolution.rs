@@ -3,9 +3,14 @@
 //! network's step through the C ABI (`cargo bench --bench step`).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use fmu_pack::convolution::ConvolutionForce;
 use hydrofmu::network::Network;
 use nalgebra::DVector;
+
+// Its unit tests run in tests/convolution.rs; not every item is used here.
+#[allow(dead_code)]
+#[path = "common/convolution.rs"]
+mod convolution;
+use convolution::ConvolutionForce;
 
 /// The network `fmu-pack` fits for the built-in semicircle with default settings
 /// (regenerate: `cargo run --release -p fmu-pack -- fit semicircle --network-out

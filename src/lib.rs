@@ -55,6 +55,7 @@ pub mod passivity;
 pub mod realize;
 pub mod scene;
 pub mod ship;
+pub mod source;
 pub mod sweep;
 pub mod units;
 pub mod waves;

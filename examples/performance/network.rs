@@ -3,7 +3,12 @@
 //! monolithic system of Schilder et al.'s eq. 19), the scene-reduced FMU, and the network against a direct
 //! convolution.
 
-use fmu_pack::convolution::ConvolutionForce;
+// The benchmark's baseline (benches/common/convolution.rs), shared with `cargo bench`; its
+// unit tests run in tests/convolution.rs. Not every item is used here.
+#[allow(dead_code)]
+#[path = "../../benches/common/convolution.rs"]
+mod convolution;
+use convolution::ConvolutionForce;
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::discretize::{discretize, expm};
 use hydrofmu::fmu::Quantity;

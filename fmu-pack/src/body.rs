@@ -1,15 +1,15 @@
 //! The whole-body commands shared by ship files (strip theory, docs/SHIPS.md) and imported 3D
 //! databases (docs/DATABASES.md): the tables of a [`Database`], its fit and its archive.
 
+use crate::args::{PackArgs, SweepArgs};
 use crate::output;
-use crate::pack::{locate_binary, pack_network, PackArgs, PackError, PackSummary, PackedNetwork};
+use crate::packing::{locate_binary, pack_network, PackError, PackSummary, PackedNetwork};
 use crate::pipeline;
-use crate::sweep_cmd::SweepArgs;
 use hydrofmu::database::wamit::WamitFiles;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::Body;
 use hydrofmu::identify::{self, FitParams, FitReport};
-use hydrofmu::scene::Band;
+use hydrofmu::scene::{whole_body, Band};
 use hydrofmu::xml::{format_number, Notation};
 use std::time::{Duration, Instant};
 
@@ -122,21 +122,7 @@ pub fn band(
         Some(text) => pipeline::parse_band(text)?,
         None => default,
     };
-    let (lo, mut hi) = band.to_rad_per_second(reference_length, g);
-    if let Some(h) = max_step {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(format!("--max-step {h}: the step must be finite and > 0 s"));
-        }
-        let nyquist = std::f64::consts::PI / h;
-        if nyquist <= lo * 1.5 {
-            return Err(format!(
-                "--max-step {h}: its Nyquist frequency pi/h = {nyquist:.4} rad/s leaves nothing \
-                 of the band {lo:.4} .. {hi:.4} rad/s"
-            ));
-        }
-        hi = hi.min(nyquist);
-    }
-    Ok((lo, hi))
+    whole_body::band(band, reference_length, g, max_step).map_err(|e| e.0)
 }
 
 /// Fits every DOF's radiation force of `database` at once over `band` (rad/s); with
@@ -153,31 +139,9 @@ pub fn fit(
     sweep_time: Duration,
     length_unit: Option<f64>,
 ) -> Result<BodyFit, String> {
-    if let Some(t) = tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(format!("--tol {t}: the tolerance must be finite and > 0"));
-        }
-    }
+    whole_body::tolerance(tolerance).map_err(|e| e.0)?;
     let (lo, hi) = band;
-    let inside = database
-        .omega
-        .iter()
-        .filter(|w| **w >= lo && **w <= hi)
-        .count();
-    if inside < 3 {
-        return Err(format!(
-            "the band {lo:.4} .. {hi:.4} rad/s holds {inside} of the {} frequencies ({:.4} .. \
-             {:.4} rad/s); at least 3 are needed (--band{})",
-            database.omega.len(),
-            database.omega.first().copied().unwrap_or(f64::NAN),
-            database.omega.last().copied().unwrap_or(f64::NAN),
-            if database.body_panels.is_empty() {
-                ""
-            } else {
-                ", --omega"
-            }
-        ));
-    }
+    whole_body::frequencies_in_band(&database, band).map_err(|e| e.0)?;
     let start = Instant::now();
     let params = FitParams {
         band: (lo, hi),
@@ -274,10 +238,10 @@ pub fn pack(fitted: &BodyFit, args: &PackArgs) -> Result<PackSummary, PackError>
     let binary = locate_binary(args.binary.as_deref())?;
     let identifier = match &args.model_identifier {
         Some(id) => id.clone(),
-        None => crate::pack::identifier_from_path(&args.output),
+        None => crate::packing::identifier_from_path(&args.output),
     };
     let network = PackedNetwork::from_network(fitted.fit.network.clone());
-    let target = crate::pack::Target {
+    let target = crate::packing::Target {
         binary: &binary,
         model_identifier: &identifier,
         output: &args.output,

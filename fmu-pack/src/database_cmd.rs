@@ -2,21 +2,16 @@
 //! Capytaine's `export_to_wamit`, BEMRosetta or HAMS write them, or a Capytaine NetCDF-3
 //! dataset) to the whole-body tables, fit and FMU (docs/DATABASES.md).
 
+use crate::args::PackArgs;
+use crate::args::{HullSweepArgs, SweepArgs};
 use crate::body::{self, BodyFit};
-use crate::pack::{PackArgs, PackError, PackSummary};
-use crate::sweep_cmd::{HullSweepArgs, SweepArgs};
+use crate::packing::{PackError, PackSummary};
 use hydrofmu::database::import::{self, ImportParams};
 use hydrofmu::database::wamit::FrequencyColumn;
 use hydrofmu::database::Database;
 use hydrofmu::scene::Band;
 use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// True when `argument` names a database file by its extension (`.1`, or `.nc` for a
-/// Capytaine NetCDF-3 dataset).
-pub fn is_database_file(argument: &str) -> bool {
-    import::is_database_path(Path::new(argument))
-}
 
 /// The import parameters of the command line; the section and ship options refused.
 fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {

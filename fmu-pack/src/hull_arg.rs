@@ -1,12 +1,12 @@
 //! The HULL argument shared by every subcommand: `semicircle`, `circle` or a hull file.
 
 use hydrofmu::hull::Hull;
-use std::path::Path;
+use hydrofmu::source::Source;
 
 /// Default centre depth over radius of the built-in `circle` when `--depth` is not given.
 pub const DEFAULT_CIRCLE_DEPTH: f64 = 2.0;
 
-/// Resolves `spec` into a hull, keeping only `dofs` when given. `depth` is the centre depth
+/// Resolves `spec` (a section, [`Source::from_argument`]) into a hull, keeping only `dofs` when given. `depth` is the centre depth
 /// over radius H/R of the built-in circle (the hull knows it: [`Hull::depth_ratio`]).
 pub fn resolve(
     spec: &str,
@@ -19,8 +19,8 @@ pub fn resolve(
             "--radius {radius}: the radius must be finite and > 0"
         ));
     }
-    let hull = match spec {
-        "semicircle" => {
+    let hull = match Source::from_argument(spec).map_err(|e| e.to_string())? {
+        Source::Semicircle => {
             if let Some(d) = depth.filter(|d| *d != 0.0) {
                 return Err(format!(
                     "--depth {d} applies to the circle; the semicircle has H/R = 0"
@@ -28,7 +28,7 @@ pub fn resolve(
             }
             Hull::semicircle(radius).map_err(|e| e.to_string())?
         }
-        "circle" => {
+        Source::Circle => {
             let d = depth.unwrap_or(DEFAULT_CIRCLE_DEPTH);
             let hull = if d == 0.0 {
                 Hull::semicircle(radius)
@@ -37,19 +37,13 @@ pub fn resolve(
             };
             hull.map_err(|e| e.to_string())?
         }
-        path => {
+        Source::HullFile(path) => {
             if depth.is_some() {
                 return Err("--depth applies to the built-in circle only".into());
             }
-            let path = Path::new(path);
-            if !path.exists() {
-                return Err(format!(
-                    "hull '{}' is neither 'semicircle', 'circle' nor an existing hull file",
-                    path.display()
-                ));
-            }
-            Hull::from_file(path).map_err(|e| e.to_string())?
+            Hull::from_file(&path).map_err(|e| e.to_string())?
         }
+        _ => return Err(format!("'{spec}' is a whole body, not a section")),
     };
     match dofs {
         Some(list) => {

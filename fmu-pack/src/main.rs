@@ -12,12 +12,15 @@
 //! error (also when standard output cannot be written, see [`output`]); 2 for command-line
 //! syntax errors (clap's usage message).
 
+mod args;
 mod body;
 mod database_cmd;
 mod fit_cmd;
+mod fit_report;
 mod hull_arg;
 mod output;
 mod pack;
+mod packing;
 mod pipeline;
 mod progress;
 mod ship_cmd;

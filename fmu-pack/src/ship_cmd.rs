@@ -1,11 +1,12 @@
 //! `fmu-pack sweep SHIP.xml`: the whole-ship tables of a ship file by strip theory
 //! (docs/SHIPS.md).
 
+use crate::args::PackArgs;
+use crate::args::{parse_grid, HullSweepArgs, SweepArgs};
 use crate::body::{self, BodyFit};
 use crate::output;
-use crate::pack::{PackArgs, PackError, PackSummary};
+use crate::packing::{PackError, PackSummary};
 use crate::progress::Progress;
-use crate::sweep_cmd::{parse_grid, HullSweepArgs, SweepArgs};
 use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
@@ -13,16 +14,6 @@ use hydrofmu::scene::Band;
 use hydrofmu::ship::{self, Ship, ShipSweepParams};
 use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// True when `argument` names a file whose top-level element is `<ship>`.
-pub fn is_ship_file(argument: &str) -> bool {
-    let path = Path::new(argument);
-    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
-    hydrofmu::input::read_bounded_text(path, limit, "MAX_INPUT_BYTES")
-        .ok()
-        .and_then(|text| hydrofmu::xml::parse(&text).ok())
-        .is_some_and(|root| root.name == "ship")
-}
 
 /// Comma-separated headings in degrees.
 fn parse_headings(text: &str) -> Result<Vec<f64>, String> {

@@ -1,168 +1,17 @@
 //! `fmu-pack sweep`: the coefficient table of a hull.
 
-use crate::hull_arg;
+pub use crate::args::SweepArgs;
 use crate::output;
 use crate::pipeline;
 use crate::progress::Progress;
-use clap::Args;
-use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::database::section::SectionDatabase;
 use hydrofmu::hull::Hull;
-use hydrofmu::panels::PanelParams;
 use hydrofmu::scene::Scene;
-use hydrofmu::sweep::{self, ExcitationPart, SweepParams};
+use hydrofmu::source::Source;
+use hydrofmu::sweep::{self, ExcitationPart};
 use hydrofmu::xml::{format_number, Notation};
 use std::path::PathBuf;
 use std::time::Instant;
-
-/// The hull and the sweep settings, shared by `fmu-pack sweep` and `fmu-pack fit`.
-#[derive(Args, Debug, Clone)]
-pub struct HullSweepArgs {
-    /// The input, chosen by the file: `semicircle` or `circle` (built-in sections), a hull
-    /// file (section XML, docs/HULL_FORMAT.md), a ship file (XML with a `<ship>` root, strip
-    /// theory, docs/SHIPS.md), WAMIT files `NAME.1` (with `NAME.3` and `NAME.hst` beside) or a
-    /// Capytaine NetCDF-3 dataset `NAME.nc` (imported 3D databases, docs/DATABASES.md).
-    pub hull: String,
-    /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
-    #[arg(long = "depth", value_name = "H_OVER_R")]
-    pub depth: Option<f64>,
-    /// Radius R of the built-in hulls, in metres.
-    #[arg(long, default_value_t = 1.0)]
-    pub radius: f64,
-    /// Panels on the wetted contour (default: 128, more for a submerged hull close to the
-    /// surface; see docs/DESIGN-NOTES.md).
-    #[arg(long)]
-    pub panels: Option<usize>,
-    /// Log-spaced grid of kR.
-    #[arg(
-        long,
-        value_name = "MIN:MAX:COUNT",
-        default_value = "0.01:10:201",
-        allow_hyphen_values = true
-    )]
-    pub kr: String,
-    /// Comma-separated DOFs to keep (default: all of the hull's).
-    #[arg(long, value_name = "a,b,..")]
-    pub dofs: Option<String>,
-    /// The seed's plain source method: do not remove irregular frequencies.
-    #[arg(long)]
-    pub plain: bool,
-    /// Discretization levels (N, N/2, N/4, ...) extrapolated to zero panel size; 1 gives the
-    /// plain N-panel result. Default 3 (a ship's sections with corners: 2, docs/SHIPS.md).
-    #[arg(long)]
-    pub levels: Option<usize>,
-    /// Worker threads (at most 1024).
-    #[arg(long, default_value_t = default_threads())]
-    pub threads: usize,
-    /// Ship files only: log-spaced grid of wave frequencies omega in rad/s (default: 100
-    /// points from kR = 0.01 to 5, R the largest section half-beam).
-    #[arg(long, value_name = "MIN:MAX:COUNT", allow_hyphen_values = true)]
-    pub omega: Option<String>,
-    /// Ship files only: wave headings in degrees, comma-separated (0 following seas, 90 from
-    /// starboard towards port, 180 head seas). Default 0,45,90,135,180.
-    #[arg(long, value_name = "DEG,DEG,..", allow_hyphen_values = true)]
-    pub headings: Option<String>,
-    /// Imported WAMIT files only: the length scale ULEN of their nondimensional values, in
-    /// metres (default 1, as Capytaine and BEMRosetta write them).
-    #[arg(long, value_name = "METRES")]
-    pub length_scale: Option<f64>,
-    /// Imported WAMIT files only: what their first column holds: `period` (s, WAMIT's
-    /// default), `omega` (rad/s) or `hz` (default: what `NAME.cfg` beside them declares with
-    /// `IPEROUT`, else the period).
-    #[arg(long, value_name = "period|omega|hz")]
-    pub frequency_column: Option<String>,
-    /// Imported files only: their exciting force is in exp(-i omega t) (older HAMS builds):
-    /// conjugate it.
-    #[arg(long)]
-    pub conjugate: bool,
-}
-
-impl HullSweepArgs {
-    /// Refuses the options of imported databases for a section or a ship.
-    pub fn refuse_import_options(&self) -> Result<(), String> {
-        let given = [
-            ("--length-scale", self.length_scale.is_some()),
-            ("--frequency-column", self.frequency_column.is_some()),
-            ("--conjugate", self.conjugate),
-        ];
-        match given.iter().find(|(_, g)| *g) {
-            Some((flag, _)) => Err(format!(
-                "{flag} applies to an imported database (NAME.1), not to '{}'",
-                self.hull
-            )),
-            None => Ok(()),
-        }
-    }
-}
-
-/// One worker thread per core, within [`sweep::MAX_THREADS`].
-fn default_threads() -> usize {
-    std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(sweep::MAX_THREADS)
-}
-
-impl HullSweepArgs {
-    /// The hull and the sweep parameters.
-    pub fn resolve(&self) -> Result<(Hull, SweepParams), String> {
-        self.refuse_import_options()?;
-        if self.omega.is_some() || self.headings.is_some() {
-            return Err(
-                "--omega and --headings apply to ship files (docs/SHIPS.md); a \
-                        section's grid is --kr"
-                    .to_string(),
-            );
-        }
-        let hull = hull_arg::resolve(&self.hull, self.radius, self.depth, self.dofs.as_deref())?;
-        let params = SweepParams {
-            kr: parse_grid(&self.kr)?,
-            panels: panel_params(&hull, self.panels),
-            irregular_frequencies: if self.plain {
-                IrregularFrequencies::Keep
-            } else {
-                IrregularFrequencies::RemoveWithLid
-            },
-            extrapolation_levels: self
-                .levels
-                .unwrap_or(SweepParams::default().extrapolation_levels),
-            threads: self.threads,
-            excitation: true,
-        };
-        Ok((hull, params))
-    }
-}
-
-/// Arguments of `fmu-pack sweep`.
-#[derive(Args, Debug, Clone)]
-pub struct SweepArgs {
-    /// The hull and the sweep settings.
-    #[command(flatten)]
-    pub sweep: HullSweepArgs,
-    /// Output CSV file (`-` for standard output).
-    #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
-    pub output: PathBuf,
-    /// Also write the exciting force of regular waves from headings 0 and 180 (direct
-    /// diffraction solve, checked by the Haskind relation), `kR,j,heading,re,im` with
-    /// `X_j / (rho g a R^(1 + e_j))` (docs/WAVES.md).
-    #[arg(long, value_name = "FILE.csv")]
-    pub excitation: Option<PathBuf>,
-    /// Also write the Froude-Krylov part of the exciting force alone, in the same format.
-    #[arg(long = "froude-krylov", value_name = "FILE.csv")]
-    pub froude_krylov: Option<PathBuf>,
-    /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
-    /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
-    #[arg(long, value_name = "FILE.csv")]
-    pub hydrostatics: Option<PathBuf>,
-    /// Also write the tables as WAMIT files PREFIX.1, PREFIX.3 (with an exciting force) and
-    /// PREFIX.hst, ULEN = 1 m; a section's per unit length, as a 1 m slice in beam seas
-    /// (docs/DATABASES.md, "Export").
-    #[arg(long, value_name = "PREFIX")]
-    pub wamit: Option<PathBuf>,
-    /// Also write the tables as a Capytaine dataset in NetCDF-3; a section's per unit length
-    /// (docs/DATABASES.md, "Export").
-    #[arg(long, value_name = "FILE.nc")]
-    pub netcdf: Option<PathBuf>,
-}
 
 /// The hydrostatic restoring table: header comments, then `i,j,value` with
 /// `value = C_ij / (rho g)` (m, m^2, m^3 for `e_i + e_j = 0, 1, 2`).
@@ -191,33 +40,6 @@ pub fn hydrostatics_csv(hull: &Hull) -> Result<String, String> {
     Ok(out)
 }
 
-/// Parses `MIN:MAX:COUNT`.
-pub fn parse_grid(text: &str) -> Result<Vec<f64>, String> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let [min, max, count] = parts.as_slice() else {
-        return Err(format!("--kr '{text}': expected MIN:MAX:COUNT"));
-    };
-    let number = |s: &str| {
-        s.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("--kr '{text}': '{s}' is not a number"))
-    };
-    let count = count
-        .trim()
-        .parse::<usize>()
-        .map_err(|_| format!("--kr '{text}': COUNT '{count}' is not a positive integer"))?;
-    sweep::log_grid(number(min)?, number(max)?, count).map_err(|e| pipeline::sweep_message(&e))
-}
-
-/// The panel parameters for `hull`: the automatic default, or the count given.
-pub fn panel_params(hull: &Hull, panels: Option<usize>) -> PanelParams {
-    let automatic = PanelParams::for_hull(hull);
-    PanelParams {
-        body_panels: panels.unwrap_or(automatic.body_panels),
-        ..automatic
-    }
-}
-
 /// Runs the sweep and writes the CSV.
 pub fn run(args: &SweepArgs) -> Result<(), String> {
     // Every output's folder, before a sweep that may take minutes.
@@ -239,11 +61,11 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     {
         output::check_folder(path)?;
     }
-    if crate::ship_cmd::is_ship_file(&args.sweep.hull) {
-        return crate::ship_cmd::run(args);
-    }
-    if crate::database_cmd::is_database_file(&args.sweep.hull) {
-        return crate::database_cmd::run(args);
+    match Source::from_argument(&args.sweep.hull) {
+        Ok(Source::ShipFile(_)) => return crate::ship_cmd::run(args),
+        Ok(source) if source.is_import() => return crate::database_cmd::run(args),
+        // A section, or an argument that names nothing: the section's resolve says why.
+        _ => {}
     }
     let (hull, mut params) = args.sweep.resolve()?;
     let exports = args.wamit.is_some() || args.netcdf.is_some();

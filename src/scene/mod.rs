@@ -21,6 +21,7 @@
 //!   DOFs would have coupled.
 
 mod report;
+pub mod whole_body;
 
 pub use report::{LeftOut, RangeError, SceneReport};
 

@@ -1,6 +1,8 @@
 //! The radiation force by direct convolution (Cummins), the classic alternative to the
-//! equivalent network. Used as the baseline in benchmarks and as an independent check of the
-//! network's stepping in tests; the FMU never uses it.
+//! equivalent network. Used as the baseline in the convolution benchmark
+//! (`benches/convolution.rs`) and the performance report (`examples/performance/network.rs`),
+//! which include this file by `#[path]`, and as an independent check of the network's
+//! stepping (`tests/convolution.rs` runs the tests below); the FMU never uses it.
 //!
 //! With the network's state space (`z' = A z + B v`, `F = C z + D v`, see [`hydrofmu::realize`])
 //! the force excluding `-A_inf q''` is

@@ -1,0 +1,400 @@
+//! Writing an archive: [`hydrofmu::fmu::Archive`] (its layout and GUID are documented there)
+//! from a body and its network, the binary found, the archive and the OSP description beside
+//! it written together; and reading one back ([`hydrofmu::fmu::inspect`]).
+
+use crate::args::FmiVersion;
+use crate::pipeline::Built;
+use hydrofmu::fmu::{self, osp, Archive, ArchiveError, Body, SceneDocumentation};
+use hydrofmu::scene::SceneReport;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+pub use hydrofmu::fmu::{identifier_from_path, PackedNetwork};
+
+/// Why packing or inspecting failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PackError(pub String);
+
+impl fmt::Display for PackError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PackError {}
+
+impl From<String> for PackError {
+    fn from(s: String) -> Self {
+        PackError(s)
+    }
+}
+
+impl From<&str> for PackError {
+    fn from(s: &str) -> Self {
+        PackError(s.to_string())
+    }
+}
+
+impl From<ArchiveError> for PackError {
+    fn from(e: ArchiveError) -> Self {
+        PackError(e.0)
+    }
+}
+
+/// Where and how an archive is written.
+#[derive(Clone, Copy, Debug)]
+pub struct Target<'a> {
+    /// The hydrofmu shared library to pack.
+    pub binary: &'a Path,
+    /// modelIdentifier (the binary's name in the archive).
+    pub model_identifier: &'a str,
+    /// The archive.
+    pub output: &'a Path,
+    /// Its FMI version.
+    pub fmi: FmiVersion,
+}
+
+/// What was packed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackSummary {
+    /// Archive written.
+    pub path: PathBuf,
+    /// modelIdentifier.
+    pub model_identifier: String,
+    /// GUID.
+    pub guid: String,
+    /// DOF names.
+    pub dofs: Vec<String>,
+    /// Network states: the length of the network's state vector.
+    pub states: usize,
+    /// Whether A_inf is kept inside.
+    pub keep_inf_mass: bool,
+    /// Fit summary, when the network was computed.
+    pub fit: Option<String>,
+    /// What the scene's FMU leaves out, when the network was computed.
+    pub scene: Option<String>,
+    /// The OSP model description written beside the archive.
+    pub osp: Option<PathBuf>,
+}
+
+/// A network computed for the archive: the pipeline's products and the scene report.
+pub struct Fitted {
+    /// Sweep and fit.
+    pub built: Built,
+    /// What was left out and the error it causes.
+    pub scene: SceneReport,
+}
+
+impl fmt::Display for PackSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "wrote {}", self.path.display())?;
+        writeln!(f, "  modelIdentifier  {}", self.model_identifier)?;
+        writeln!(f, "  GUID             {}", self.guid)?;
+        writeln!(f, "  DOFs             {}", self.dofs.join(" "))?;
+        writeln!(f, "  network states   {}", self.states)?;
+        write!(
+            f,
+            "  A_inf            {}",
+            if self.keep_inf_mass {
+                "inside (acceleration inputs)"
+            } else {
+                "outside (add added_mass_inf to the hull's mass)"
+            }
+        )?;
+        if let Some(osp) = &self.osp {
+            write!(f, "\n  OSP description  {}", osp.display())?;
+        }
+        if let Some(fit) = &self.fit {
+            write!(f, "\n  fit              {fit}")?;
+        }
+        if let Some(scene) = &self.scene {
+            write!(f, "\n  scene")?;
+            for line in scene.lines() {
+                write!(f, "\n    {line}")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Packs a network for a body into `target.output` (the lower-level entry point): the
+/// section's exciting force from the fit's sweep, the scene report, the fit report and its
+/// figures when a scene computed the network; the archive and its OSP description written
+/// together, or neither.
+pub fn pack_network(
+    body: Body,
+    network: PackedNetwork,
+    keep_inf_mass: bool,
+    target: &Target,
+    fit: Option<&Fitted>,
+) -> Result<PackSummary, PackError> {
+    let Target {
+        binary,
+        model_identifier,
+        output,
+        fmi,
+    } = *target;
+    if output.as_os_str() == "-" {
+        return Err(PackError(
+            "-o -: an archive is written to a file, not to standard output (which carries the \
+             summary); name a file"
+                .into(),
+        ));
+    }
+    // A network packed from a file has no sweep: its FMU models calm water only.
+    let body = match fit {
+        Some(fitted) => {
+            body.with_sweep_excitation(&fitted.built.sweep, &network.network().dof_names)?
+        }
+        None => body,
+    };
+    let mut archive = Archive::new(body, network, model_identifier, fmu::read_binary(binary)?);
+    archive.keep_inf_mass = keep_inf_mass;
+    archive.fmi = fmi.into();
+    archive.scene = fit.map(|Fitted { built, scene }| SceneDocumentation {
+        scene: scene.to_string(),
+        fit: crate::fit_report::text(built),
+        plots: crate::fit_report::plots(built),
+    });
+    let packed = archive.build()?;
+    // The archive and the OSP description beside it are written together, or neither.
+    let mut outputs = crate::output::Outputs::new();
+    outputs.bytes(output, &packed.bytes)?;
+    let osp = stage_osp_beside(
+        &mut outputs,
+        output,
+        &packed.model_name,
+        &packed.osp_description,
+    )?;
+    outputs.commit()?;
+    Ok(PackSummary {
+        path: output.to_path_buf(),
+        model_identifier: model_identifier.to_string(),
+        guid: packed.guid,
+        dofs: packed.dofs,
+        states: packed.states,
+        keep_inf_mass,
+        osp,
+        scene: packed.scene,
+        fit: fit.map(|Fitted { built: b, .. }| {
+            format!(
+                "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
+                b.fit.aux_dofs,
+                100.0 * b.fit.max_relative_error,
+                100.0 * b.fit.tolerance,
+                if b.fit.tolerance_met { "met" } else { "NOT met" },
+                b.sweep_time.as_secs_f64(),
+                b.fit_time.as_secs_f64()
+            )
+        }),
+    })
+}
+
+/// Stages the OSP description beside `archive` in `outputs` (committed with the archive) when
+/// the archive goes to a regular file ([`osp::path_beside`]); returns the path it will have.
+/// Replacing another hull's description is warned about.
+pub fn stage_osp_beside(
+    outputs: &mut crate::output::Outputs,
+    archive: &Path,
+    model_name: &str,
+    text: &str,
+) -> Result<Option<PathBuf>, String> {
+    let Some(path) = osp::path_beside(archive, model_name) else {
+        return Ok(None);
+    };
+    let limit = hydrofmu::xml::MAX_INPUT_BYTES as u64;
+    if hydrofmu::input::read_bounded_text(&path, limit, "MAX_INPUT_BYTES")
+        .is_ok_and(|old| old != text)
+    {
+        crate::output::stderr_line(&format!(
+            "fmu-pack: warning: {} replaced by another hull FMU's groups (one modelName per \
+             hull: keep FMUs of a hull with different DOFs in separate folders)",
+            path.display()
+        ));
+    }
+    outputs.bytes(&path, text.as_bytes())?;
+    Ok(Some(path))
+}
+
+/// The hydrofmu shared library: `--binary`, else `HYDROFMU_BINARY`, else, for a release build
+/// of fmu-pack, the library cargo built with it (`release/deps/libhydrofmu.so`: building
+/// fmu-pack builds the library's cdylib there, only `cargo build -p hydrofmu` copies it up),
+/// else `libhydrofmu.so` next to this executable. If none is there and this executable lives
+/// in this workspace's target directory, the release library is built with cargo.
+pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
+    if let Some(p) = explicit {
+        return existing(p, "--binary");
+    }
+    if let Some(p) = std::env::var_os("HYDROFMU_BINARY") {
+        return existing(Path::new(&p), "HYDROFMU_BINARY");
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate fmu-pack: {e}"))?;
+    let exe_dir = exe
+        .parent()
+        .ok_or("fmu-pack has no parent directory")?
+        .to_path_buf();
+    let target_dir = exe_dir.parent().map(Path::to_path_buf);
+    let in_cargo_target = target_dir
+        .as_ref()
+        .is_some_and(|t| t.join("CACHEDIR.TAG").is_file());
+    let built_with_this = exe_dir.join("deps").join("libhydrofmu.so");
+    if in_cargo_target && exe_dir.ends_with("release") && built_with_this.is_file() {
+        return Ok(built_with_this);
+    }
+    let beside = exe_dir.join("libhydrofmu.so");
+    if beside.is_file() {
+        return Ok(beside);
+    }
+    let manifest = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../Cargo.toml"));
+    if let (true, true, Some(target_dir)) = (manifest.is_file(), in_cargo_target, target_dir) {
+        crate::output::stderr_line(&format!(
+            "fmu-pack: {} is missing; building it: cargo build --release -p hydrofmu --lib",
+            beside.display()
+        ));
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = std::process::Command::new(cargo)
+            .args([
+                "build",
+                "--release",
+                "-p",
+                "hydrofmu",
+                "--lib",
+                "--manifest-path",
+            ])
+            .arg(manifest)
+            .env("CARGO_TARGET_DIR", &target_dir)
+            .status()
+            .map_err(|e| format!("cannot run cargo: {e}"))?;
+        if !status.success() {
+            return Err(PackError(format!("building hydrofmu failed ({status})")));
+        }
+        let built = target_dir.join("release").join("libhydrofmu.so");
+        return existing(&built, "the release build");
+    }
+    Err(PackError(format!(
+        "cannot find libhydrofmu.so: pass --binary PATH, set HYDROFMU_BINARY, or put it next to {} \
+         (cargo build --release -p hydrofmu --lib)",
+        exe.display()
+    )))
+}
+
+fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
+    if p.is_file() {
+        Ok(p.to_path_buf())
+    } else {
+        Err(PackError(format!(
+            "{source}: {} is not a file",
+            p.display()
+        )))
+    }
+}
+
+/// `fmu-pack inspect`. Every error starts with the archive's path.
+pub fn inspect(path: &Path) -> Result<fmu::Inspection, PackError> {
+    Ok(fmu::inspect(path)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The seed paper's 2-DOF network (the shipped example file).
+    const SEED: &str = include_str!("../../examples/networks/seed_2dof.xml");
+
+    fn temp_dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fmu-pack-test-{}-{tag}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn hull() -> Body {
+        let hull = hydrofmu::hull::Hull::semicircle(1.0)
+            .unwrap()
+            .select_dofs(&["sway", "roll"])
+            .unwrap();
+        Body::section(&hull)
+    }
+
+    fn net() -> PackedNetwork {
+        PackedNetwork::from_text(SEED.to_string(), "test network").unwrap()
+    }
+
+    #[test]
+    fn the_archive_and_its_osp_description_are_written_together() {
+        let dir = temp_dir("layout");
+        let binary = dir.join("libfake.so");
+        std::fs::write(&binary, b"\x7fELF fake").unwrap();
+        let out = dir.join("Seed-1.fmu");
+        let id = identifier_from_path(&out);
+        let target = Target {
+            binary: &binary,
+            model_identifier: &id,
+            output: &out,
+            fmi: FmiVersion::V3,
+        };
+        let summary = pack_network(hull(), net(), false, &target, None).unwrap();
+        assert_eq!(summary.dofs, vec!["sway".to_string()]);
+        let found = inspect(&out).unwrap();
+        assert_eq!(found.guid, summary.guid);
+        assert_eq!(found.fmi_version, "3.0");
+        let beside = summary.osp.clone().unwrap();
+        assert_eq!(
+            beside,
+            dir.join("hydrofmu Semicircle_OspModelDescription.xml")
+        );
+        assert!(beside.is_file());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn mistakes_are_reported_clearly() {
+        let dir = temp_dir("errors");
+        let binary = dir.join("lib.so");
+        std::fs::write(&binary, b"x").unwrap();
+        let out = dir.join("x.fmu");
+        let to = |binary: &Path, output: &Path| {
+            let target = Target {
+                binary,
+                model_identifier: "X",
+                output,
+                fmi: FmiVersion::V2,
+            };
+            pack_network(hull(), net(), false, &target, None).unwrap_err()
+        };
+        let e = to(&dir.join("missing.so"), &out);
+        assert!(e.0.contains("cannot read the binary"), "{e}");
+        assert!(!out.exists());
+        let e = to(&binary, Path::new("-"));
+        assert!(
+            e.0.starts_with("-o -: an archive is written to a file"),
+            "{e}"
+        );
+        assert!(locate_binary(Some(&dir.join("missing.so"))).is_err());
+        assert!(inspect(&binary).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn the_description_is_staged_beside_a_file_and_not_beside_a_device() {
+        let dir = std::env::temp_dir().join(format!("fmu-pack-osp-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let archive = dir.join("X.fmu");
+        let mut outputs = crate::output::Outputs::new();
+        for device in ["/dev/null", "-"] {
+            assert_eq!(
+                stage_osp_beside(&mut outputs, Path::new(device), "m", "x").unwrap(),
+                None
+            );
+        }
+        let staged = stage_osp_beside(&mut outputs, &archive, "hydrofmu X", "text")
+            .unwrap()
+            .unwrap();
+        assert_eq!(staged, dir.join("hydrofmu X_OspModelDescription.xml"));
+        // Staged, not yet written: nothing there until the commit.
+        assert!(!staged.exists());
+        outputs.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&staged).unwrap(), "text");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
