@@ -524,7 +524,7 @@ pub fn sections(out: &Output, doc: &mut String, threads: usize, command: &str) {
          dtau`, computed two ways for 9 smooth velocity signals over {} s at h = {h} s: by the \
          network (exact stepping, first-order hold) and by direct convolution with the same \
          retardation function `K(t) = C exp(A t) B` over a {history}-step history (trapezoidal \
-         rule, `fmu_pack::convolution`). Error: largest force difference from the network at \
+         rule, `benches/common/convolution.rs`). Error: largest force difference from the network at \
          h/8, relative to the largest force.\n",
         steps as f64 * h
     );
