@@ -41,7 +41,7 @@ pub struct HullSweepArgs {
     /// Comma-separated DOFs to keep (default: all of the hull's).
     #[arg(long, value_name = "a,b,..")]
     pub dofs: Option<String>,
-    /// The seed's plain source method: do not remove irregular frequencies.
+    /// Schilder et al.'s plain source method: do not remove irregular frequencies.
     #[arg(long)]
     pub plain: bool,
     /// Discretization levels (N, N/2, N/4, ...) extrapolated to zero panel size; 1 gives the

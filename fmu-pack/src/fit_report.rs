@@ -92,7 +92,7 @@ pub fn text(built: &Built) -> String {
     out
 }
 
-/// Plots of fit against data (as the seed's Figure 6), one per matrix entry i <= j whose
+/// Plots of fit against data (as Schilder et al.'s Figure 6), one per matrix entry i <= j whose
 /// scale is nonzero: data (markers) and network (lines), real and imaginary parts, against kR.
 /// Returns `(file name, SVG text)` pairs.
 pub fn plots(built: &Built) -> Vec<(String, String)> {

@@ -298,7 +298,7 @@ pub fn inspect(path: &Path) -> Result<fmu::Inspection, PackError> {
 mod tests {
     use super::*;
 
-    /// The seed paper's 2-DOF network (the shipped example file).
+    /// Schilder et al.'s 2-DOF network (the shipped example file).
     const SEED: &str = include_str!("../../examples/networks/seed_2dof.xml");
 
     fn temp_dir(tag: &str) -> PathBuf {

@@ -103,7 +103,7 @@ fn full_device() -> Stdio {
     Stdio::from(File::options().write(true).open("/dev/full").unwrap())
 }
 
-/// `pack semicircle` of the seed network with the library `binary`, into `fmu`.
+/// `pack semicircle` of Schilder et al.'s network with the library `binary`, into `fmu`.
 fn pack_seed(binary: &Path, fmu: &Path) -> Run {
     run(&[
         "pack",
@@ -117,7 +117,7 @@ fn pack_seed(binary: &Path, fmu: &Path) -> Run {
     ])
 }
 
-/// A packed archive (from the seed network; the library is a stand-in file) and the stand-in.
+/// A packed archive (from Schilder et al.'s network; the library is a stand-in file) and the stand-in.
 fn packed_archive(dir: &Path) -> (PathBuf, PathBuf) {
     let binary = dir.join("libstandin.so");
     std::fs::write(&binary, b"\x7fELF stand-in").unwrap();

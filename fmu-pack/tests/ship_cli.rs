@@ -1,4 +1,4 @@
-//! `fmu-pack sweep SHIP.xml`: the whole-ship tables of DESIGN.md ("Ships") and clear errors.
+//! `fmu-pack sweep SHIP.xml`: the whole-ship tables of docs/DESIGN.md ("Ships") and clear errors.
 
 use std::path::PathBuf;
 
@@ -13,7 +13,7 @@ fn example(name: &str) -> String {
         .to_string()
 }
 
-/// The barge's table in SI: the header of DESIGN.md, `A_inf` rows first, every entry of
+/// The barge's table in SI: the header of docs/DESIGN.md, `A_inf` rows first, every entry of
 /// every frequency, and the heave restoring `rho g L B` of the 100 m x 10 m waterplane.
 #[test]
 fn sweep_of_a_ship_file_writes_the_whole_ship_tables() {

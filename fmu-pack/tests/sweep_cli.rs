@@ -1,4 +1,4 @@
-//! `fmu-pack sweep` from the command line: the CSV of DESIGN.md and clear errors.
+//! `fmu-pack sweep` from the command line: the CSV of docs/DESIGN.md and clear errors.
 
 mod common;
 use common::fmu_pack;
