@@ -400,16 +400,16 @@ def test_libcosim_runs_two_different_fmus_in_one_system(fmus):
     two = execution.add_local_slave(CosimLocalSlave(fmu_path=str(fmus["TwoDof"]), instance_name="two"))
     vr_seed = {v.name: v.valueReference for v in read_model_description(str(fmus["Seed"])).modelVariables}
     vr_two = {v.name: v.valueReference for v in read_model_description(str(fmus["TwoDof"])).modelVariables}
-    for index, vr in ((Schilder et al., vr_seed), (two, vr_two)):
+    for index, vr in ((seed, vr_seed), (two, vr_two)):
         assert execution.real_initial_value(index, vr["rho"], 1.0)
         assert execution.real_initial_value(index, vr["g"], 1.0)
         assert execution.real_initial_value(index, vr["velocity.sway"], 1.0)
     # data flows between the two FMUs: two's heave velocity follows seed's power
-    assert execution.connect_real_variables(Schilder et al., vr_seed["power"], two, vr_two["velocity.heave"]) == 0
+    assert execution.connect_real_variables(seed, vr_seed["power"], two, vr_two["velocity.heave"]) == 0
     observer = CosimObserver.create_last_value()
     assert execution.add_observer(observer)
     assert execution.simulate_until(target_time=int(1e9))  # 1 s
-    (force_seed,) = observer.last_real_values(Schilder et al., [vr_seed["force.sway"]])
+    (force_seed,) = observer.last_real_values(seed, [vr_seed["force.sway"]])
     force_two = observer.last_real_values(two, [vr_two["force.sway"], vr_two["force.heave"]])
     (heave,) = observer.last_real_values(two, [vr_two["velocity.heave"]])
     # Same sway branch in both networks, same held input: same sway force.
