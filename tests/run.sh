@@ -37,9 +37,10 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 
 step "cargo test"
 # The fuzz targets run on their own below, with their counts shown.
-cargo test --workspace -- --skip fuzz_
+cargo test --workspace -- --skip fuzz_ --skip model::snapshot::fuzz
 step "fuzz targets (executed and accepted cases of each, with their asserted minimums)"
 cargo test -p hydrofmu --test fuzz -- --nocapture
+cargo test -p hydrofmu --lib model::snapshot::fuzz -- --nocapture
 
 step "release build of the FMU binary and fmu-pack"
 cargo build --release --workspace

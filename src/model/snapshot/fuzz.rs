@@ -339,7 +339,18 @@ fn mutated_state_bytes_never_panic_and_accepted_states_stay_finite() {
         "state fuzzer: {done} mutated cases (+ crafted) in {:.2} s, seed {seed:#x}: {tally:?}",
         start.elapsed().as_secs_f64()
     );
-    // The mutations reach the checks behind the checksum, and past them.
-    assert!(tally.accepted * 20 > tally.cases, "{tally:?}");
-    assert!(tally.stepped > 0, "{tally:?}");
+    // Every case ran (unless a time limit was given), and the mutations reach the checks
+    // behind the checksum and past them: measured 3861 of 20036 cases accepted (19.3 %), 3815
+    // stepped; the minimum is about three quarters of that, 14 %.
+    if limit.is_none() {
+        assert_eq!(done, cases, "executed cases");
+    }
+    assert!(
+        tally.accepted * 100 >= tally.cases * 14,
+        "accepted cases: {tally:?}"
+    );
+    assert!(
+        tally.stepped * 100 >= tally.cases * 14,
+        "stepped cases: {tally:?}"
+    );
 }
