@@ -389,19 +389,7 @@ fn a_logger_may_call_back_into_the_instance() {
     };
     let log = Log::default();
     let mut f = callbacks(&log);
-    // SAFETY: as in `callbacks`.
-    f.logger = Some(unsafe {
-        std::mem::transmute::<
-            unsafe extern "C" fn(
-                fmi2ComponentEnvironment,
-                fmi2String,
-                fmi2Status,
-                fmi2String,
-                fmi2String,
-            ),
-            fmi2CallbackLogger,
-        >(reentrant_logger)
-    });
+    f.logger = Some(as_fmi2_logger(reentrant_logger));
     f.componentEnvironment = &reentry as *const Reentry as *mut c_void;
     let c = ready(&fmu, &f);
     reentry.component.store(c, Ordering::SeqCst);

@@ -37,10 +37,19 @@ unsafe extern "C" fn rust_logger(
         .push((status, text(category), text(message)));
 }
 
-pub(super) fn callbacks(log: &Log) -> fmi2CallbackFunctions {
+/// A non-variadic test logger as the variadic `fmi2CallbackLogger`.
+pub(super) fn as_fmi2_logger(
+    logger: unsafe extern "C" fn(
+        fmi2ComponentEnvironment,
+        fmi2String,
+        fmi2Status,
+        fmi2String,
+        fmi2String,
+    ),
+) -> fmi2CallbackLogger {
     // SAFETY: test only: on x86-64 System V a non-variadic callee ignores the vector
     // register count a variadic call passes; we never pass variadic arguments.
-    let logger = unsafe {
+    unsafe {
         std::mem::transmute::<
             unsafe extern "C" fn(
                 fmi2ComponentEnvironment,
@@ -50,10 +59,13 @@ pub(super) fn callbacks(log: &Log) -> fmi2CallbackFunctions {
                 fmi2String,
             ),
             fmi2CallbackLogger,
-        >(rust_logger)
-    };
+        >(logger)
+    }
+}
+
+pub(super) fn callbacks(log: &Log) -> fmi2CallbackFunctions {
     fmi2CallbackFunctions {
-        logger: Some(logger),
+        logger: Some(as_fmi2_logger(rust_logger)),
         allocateMemory: None,
         freeMemory: None,
         stepFinished: None,
