@@ -62,8 +62,10 @@
 //! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is Schilder et al.'s
 //! plain method.
 
+mod drift;
 mod linear;
 
+pub use drift::Drift;
 use linear::{mirror_map, solve_dense, solve_mirrored};
 
 use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral, PanelPairs};
@@ -126,6 +128,9 @@ pub struct WaveForces {
     pub direct: DMatrix<Complex64>,
     /// The Froude-Krylov part alone (the incident wave's pressure).
     pub froude_krylov: DMatrix<Complex64>,
+    /// The far field and the fixed section's mean drift force (headings 0 and 180 only:
+    /// `None` for oblique waves).
+    pub drift: Option<Drift>,
 }
 
 impl WaveForces {
@@ -138,6 +143,10 @@ impl WaveForces {
             haskind: mix(&self.haskind, &other.haskind),
             direct: mix(&self.direct, &other.direct),
             froude_krylov: mix(&self.froude_krylov, &other.froude_krylov),
+            drift: match (&self.drift, &other.drift) {
+                (Some(x), Some(y)) => Some(x.combine(a, y, b, c)),
+                _ => None,
+            },
         }
     }
 
@@ -675,17 +684,7 @@ fn incident_wave(mesh: &Mesh, wavenumber: f64, cosine: f64) -> Vec<(Complex64, C
     mesh.body
         .iter()
         .map(|panel| {
-            let centre = alpha[0] * panel.centre[0] + alpha[1] * panel.centre[1];
-            let half = (alpha[0] * (panel.end[0] - panel.start[0])
-                + alpha[1] * (panel.end[1] - panel.start[1]))
-                * 0.5;
-            // Mean of e^{alpha . x} over the panel: e^{alpha . c} sinh(w) / w.
-            let shape = if half.norm() < 1e-4 {
-                Complex64::new(1.0, 0.0) + half * half / 6.0
-            } else {
-                half.sinh() / half
-            };
-            let psi = centre.exp() * shape;
+            let psi = drift::exponential_mean(panel, alpha);
             let normal_derivative = psi * (alpha[0] * panel.normal[0] + alpha[1] * panel.normal[1]);
             (psi, normal_derivative)
         })
@@ -761,6 +760,7 @@ fn solve_system(
             haskind: DMatrix::zeros(dof_count, headings),
             direct: DMatrix::zeros(dof_count, headings),
             froude_krylov: DMatrix::zeros(dof_count, headings),
+            drift: None,
         };
         for (h, wave) in incident.iter().enumerate() {
             for j in 0..dof_count {
@@ -779,6 +779,25 @@ fn solve_system(
                 forces.froude_krylov[(j, h)] = fk;
                 forces.direct[(j, h)] = fk + scattered;
                 forces.haskind[(j, h)] = fk - haskind_term;
+            }
+        }
+        if let Some((k, cosines)) = waves {
+            if cosines.iter().all(|c| c.abs() == 1.0) && body_count >= 3 {
+                let body_potential: Vec<Vec<Complex64>> = (0..headings)
+                    .map(|h| {
+                        (0..body_count)
+                            .map(|l| from_faer(phi.read(l, dof_count + h)))
+                            .collect()
+                    })
+                    .collect();
+                forces.drift = Some(drift::drift(
+                    mesh,
+                    k,
+                    cosines,
+                    &strengths,
+                    &body_potential,
+                    &incident,
+                ));
             }
         }
         forces

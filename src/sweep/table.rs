@@ -46,6 +46,7 @@ impl SweepResult {
                     haskind: rows(&w.haskind),
                     direct: rows(&w.direct),
                     froude_krylov: rows(&w.froude_krylov),
+                    drift: w.drift.as_ref().map(|d| d.select(&index)),
                 })
                 .collect(),
             excitation_long_wave: index

@@ -1,0 +1,325 @@
+//! Far-field wave amplitudes and the mean wave drift force of a fixed section.
+//!
+//! # Far field
+//! Far from the body the wave part of the Green function is `i e^{k(y + y0)} e^{-ik|x - x0|}`
+//! ([`crate::green`]), so a source distribution `sigma` radiates, towards `s = +1` (+x) or
+//! `s = -1` (-x), the potential `K(s) e^{k y - i s k x}` with the Kochin amplitude
+//!
+//! ```text
+//! K(s) = i sum_p sigma_p integral_{panel p} e^{k y0 + i s k x0} ds0     (body and lid panels)
+//! ```
+//!
+//! (exact panel integrals). A unit-amplitude incident wave `psi_0 = e^{k y - i c k x}` has the
+//! elevation `e^{-i c k x}`, so the scattered wave of heading `c` has the elevation amplitude
+//! `K_D(s)`; its reflection coefficient is `R = K_D(-c)` and its transmission coefficient
+//! `T = 1 + K_D(c)`. The radiation potential of DOF j per unit velocity raises the elevation
+//! `k K_j(s)` per unit displacement. Energy: `-Im A~_jj / rho = (|K_j(+1)|^2 + |K_j(-1)|^2) / 2`,
+//! and a fixed, lossless section has `|R|^2 + |T|^2 = 1`.
+//!
+//! # Mean drift, far field (Maruo)
+//! The mean horizontal force per unit length in a regular wave of amplitude `a` is the momentum
+//! the waves bring minus what they take away,
+//!
+//! ```text
+//! F_x = c (rho g a^2 / 4) (1 + |R|^2 - |T|^2)     (= c (rho g a^2 / 2) |R|^2 without losses)
+//! ```
+//!
+//! # Mean drift, near field (pressure integration on the fixed section)
+//! The mean of the second-order pressure `-rho |grad Phi|^2 / 2` on the wetted contour and of the
+//! first-order pressure over the strip between the mean and the instantaneous waterline give, per
+//! `rho g a^2`, in the direction of DOF j,
+//!
+//! ```text
+//! D_j = sum_waterlines |psi|^2 n_j / (4 |n_x|)  -  (1 / 4k) integral_C |d(psi)/ds|^2 n_j ds
+//! ```
+//!
+//! with the total potential `psi = psi_0 + psi_D` (the normal velocity is zero on a fixed body)
+//! and `n_j / |n_x|` the strip's length per unit height times `n_j`. The tangential derivative is
+//! a three-point difference of the panel values along the contour, the waterline values a
+//! quadratic extrapolation of the three panels nearest to each waterline point: both second order
+//! in the panel length, and extrapolated to zero panel size with the rest of a sweep.
+
+use crate::panels::{Mesh, Panel};
+use faer::Mat;
+use nalgebra::DMatrix;
+use num_complex::Complex64;
+
+use super::{from_faer, unknown_panel};
+
+/// The far-field and drift quantities of one frequency, for the headings 0 and 180 of a
+/// section ([`super::HEADINGS`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drift {
+    /// Far-field elevation amplitudes. Row `j` below the DOF count: the wave DOF j radiates per
+    /// unit displacement; row `dofs + h`: the wave heading `h` scatters per unit incident
+    /// amplitude. Column 0: travelling towards -x, column 1: towards +x.
+    pub far_field: DMatrix<Complex64>,
+    /// Mean force of the fixed section per `rho g a^2` by pressure integration: rows the DOFs
+    /// (m^e per m^2 of amplitude, `e` the DOF's length exponent), then the horizontal force;
+    /// one column per heading.
+    pub near_field: DMatrix<f64>,
+    /// The headings' transverse direction cosines (1: towards +x, -1: towards -x).
+    pub cosines: Vec<f64>,
+}
+
+impl Drift {
+    /// `(a self + b other) / c`, entry-wise (Richardson extrapolation).
+    pub fn combine(&self, a: f64, other: &Drift, b: f64, c: f64) -> Drift {
+        let far = (&self.far_field * Complex64::new(a, 0.0)
+            + &other.far_field * Complex64::new(b, 0.0))
+            / Complex64::new(c, 0.0);
+        Drift {
+            far_field: far,
+            near_field: (&self.near_field * a + &other.near_field * b) / c,
+            cosines: self.cosines.clone(),
+        }
+    }
+
+    /// Number of DOFs.
+    fn dof_count(&self) -> usize {
+        self.far_field.nrows() - self.cosines.len()
+    }
+
+    /// The reflection coefficient `R` of heading `h` (complex elevation of the reflected wave
+    /// per unit incident amplitude, at x = 0).
+    pub fn reflection(&self, h: usize) -> Complex64 {
+        let towards = if self.cosines[h] > 0.0 { 0 } else { 1 };
+        self.far_field[(self.dof_count() + h, towards)]
+    }
+
+    /// The transmission coefficient `T` of heading `h`.
+    pub fn transmission(&self, h: usize) -> Complex64 {
+        let towards = if self.cosines[h] > 0.0 { 1 } else { 0 };
+        Complex64::new(1.0, 0.0) + self.far_field[(self.dof_count() + h, towards)]
+    }
+
+    /// The fixed section's mean horizontal force per `rho g a^2` by the momentum of the far
+    /// field (Maruo): `c (1 + |R|^2 - |T|^2) / 4`.
+    pub fn horizontal_far_field(&self, h: usize) -> f64 {
+        let (r, t) = (self.reflection(h), self.transmission(h));
+        self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0
+    }
+
+    /// The fixed section's mean horizontal force per `rho g a^2` by pressure integration.
+    pub fn horizontal_near_field(&self, h: usize) -> f64 {
+        self.near_field[(self.dof_count(), h)]
+    }
+
+    /// Keeps the DOF rows `index` (in that order) and the rest.
+    pub(crate) fn select(&self, index: &[usize]) -> Drift {
+        let dofs = self.dof_count();
+        let rows: Vec<usize> = index
+            .iter()
+            .copied()
+            .chain(dofs..self.far_field.nrows())
+            .collect();
+        let near_rows: Vec<usize> = index.iter().copied().chain([dofs]).collect();
+        Drift {
+            far_field: self.far_field.select_rows(&rows),
+            near_field: self.near_field.select_rows(&near_rows),
+            cosines: self.cosines.clone(),
+        }
+    }
+}
+
+/// The mean of `e^{alpha . x}` over a straight panel: `e^{alpha . c} sinh(w) / w`,
+/// `w = alpha . (b - a) / 2`.
+pub(super) fn exponential_mean(panel: &Panel, alpha: [Complex64; 2]) -> Complex64 {
+    let centre = alpha[0] * panel.centre[0] + alpha[1] * panel.centre[1];
+    let half = (alpha[0] * (panel.end[0] - panel.start[0])
+        + alpha[1] * (panel.end[1] - panel.start[1]))
+        * 0.5;
+    let shape = if half.norm() < 1e-4 {
+        Complex64::new(1.0, 0.0) + half * half / 6.0
+    } else {
+        half.sinh() / half
+    };
+    centre.exp() * shape
+}
+
+/// Kochin amplitudes `K(s)` of every column of `strengths` (unknowns: body, then lid panels),
+/// columns `s = -1, +1`.
+fn kochin(
+    mesh: &Mesh,
+    wavenumber: f64,
+    strengths: &Mat<faer::complex_native::c64>,
+) -> DMatrix<Complex64> {
+    let k = wavenumber;
+    let unknowns = strengths.nrows();
+    let mut out = DMatrix::zeros(strengths.ncols(), 2);
+    for (column, s) in [-1.0, 1.0].into_iter().enumerate() {
+        let alpha = [Complex64::new(0.0, s * k), Complex64::new(k, 0.0)];
+        let weights: Vec<Complex64> = (0..unknowns)
+            .map(|p| {
+                let panel = unknown_panel(mesh, p);
+                Complex64::new(0.0, panel.length) * exponential_mean(panel, alpha)
+            })
+            .collect();
+        for q in 0..strengths.ncols() {
+            out[(q, column)] = (0..unknowns)
+                .map(|p| from_faer(strengths.read(p, q)) * weights[p])
+                .sum();
+        }
+    }
+    out
+}
+
+/// Arc length of each body panel's centre along the contour.
+fn centre_arc_lengths(mesh: &Mesh) -> Vec<f64> {
+    let mut s = 0.0;
+    mesh.body
+        .iter()
+        .map(|p| {
+            let centre = s + 0.5 * p.length;
+            s += p.length;
+            centre
+        })
+        .collect()
+}
+
+/// Weights of the quadratic through `s[0..3]` at `t` (Lagrange).
+fn quadratic_weights(s: [f64; 3], t: f64) -> [f64; 3] {
+    [
+        (t - s[1]) * (t - s[2]) / ((s[0] - s[1]) * (s[0] - s[2])),
+        (t - s[0]) * (t - s[2]) / ((s[1] - s[0]) * (s[1] - s[2])),
+        (t - s[0]) * (t - s[1]) / ((s[2] - s[0]) * (s[2] - s[1])),
+    ]
+}
+
+/// The three body panels nearest each waterline point of an open contour and the point's arc
+/// length: the contour's first and last node when they lie on `y = 0`.
+fn waterlines(mesh: &Mesh, arc: &[f64]) -> Vec<([usize; 3], f64)> {
+    let n = mesh.body.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    let on_surface = |y: f64| y.abs() <= 1e-9 * mesh.reference_half_beam.max(1e-300);
+    let closed = {
+        let (a, b) = (mesh.body[0].start, mesh.body[n - 1].end);
+        (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * mesh.reference_half_beam
+    };
+    let mut out = Vec::new();
+    if !closed && on_surface(mesh.body[0].start[1]) {
+        out.push(([0, 1, 2], 0.0));
+    }
+    if !closed && on_surface(mesh.body[n - 1].end[1]) {
+        out.push((
+            [n - 1, n - 2, n - 3],
+            arc[n - 1] + 0.5 * mesh.body[n - 1].length,
+        ));
+    }
+    out
+}
+
+/// Tangential derivative along the contour of panel values `f` (three-point differences on
+/// the centres' arc lengths; one-sided at the ends of an open contour, wrapped on a closed one).
+fn tangential_derivative(
+    f: &[Complex64],
+    arc: &[f64],
+    closed: bool,
+    perimeter: f64,
+) -> Vec<Complex64> {
+    let n = f.len();
+    (0..n)
+        .map(|l| {
+            let (i0, i1, i2, offset) = if closed {
+                ((l + n - 1) % n, l, (l + 1) % n, true)
+            } else if l == 0 {
+                (0, 1, 2, false)
+            } else if l == n - 1 {
+                (n - 3, n - 2, n - 1, false)
+            } else {
+                (l - 1, l, l + 1, false)
+            };
+            let mut s = [arc[i0], arc[i1], arc[i2]];
+            if offset {
+                if l == 0 {
+                    s[0] -= perimeter;
+                }
+                if l == n - 1 {
+                    s[2] += perimeter;
+                }
+            }
+            // Derivative of the quadratic through the three points, at arc[l].
+            let t = arc[l];
+            let d = [
+                ((t - s[1]) + (t - s[2])) / ((s[0] - s[1]) * (s[0] - s[2])),
+                ((t - s[0]) + (t - s[2])) / ((s[1] - s[0]) * (s[1] - s[2])),
+                ((t - s[0]) + (t - s[1])) / ((s[2] - s[0]) * (s[2] - s[1])),
+            ];
+            f[i0] * d[0] + f[i1] * d[1] + f[i2] * d[2]
+        })
+        .collect()
+}
+
+/// The drift quantities of one wave frequency: the far field of every solved column and the
+/// fixed section's near-field mean force for each heading of `cosines` (all +-1).
+///
+/// `strengths`: source strengths (unknowns x (DOFs + headings)); `body_potential`: the
+/// diffraction potential at the body panels, one column per heading; `incident`: the incident
+/// wave's panel means per heading.
+pub(super) fn drift(
+    mesh: &Mesh,
+    wavenumber: f64,
+    cosines: &[f64],
+    strengths: &Mat<faer::complex_native::c64>,
+    body_potential: &[Vec<Complex64>],
+    incident: &[Vec<(Complex64, Complex64)>],
+) -> Drift {
+    let k = wavenumber;
+    let dofs = mesh.dof_names.len();
+    let n = mesh.body.len();
+    let mut far_field = kochin(mesh, k, strengths);
+    for j in 0..dofs {
+        for s in 0..2 {
+            far_field[(j, s)] *= k;
+        }
+    }
+    let arc = centre_arc_lengths(mesh);
+    let perimeter: f64 = mesh.body.iter().map(|p| p.length).sum();
+    let closed = {
+        let (a, b) = (mesh.body[0].start, mesh.body[n - 1].end);
+        (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * mesh.reference_half_beam
+    };
+    let lines = waterlines(mesh, &arc);
+    // Generalized normals of the DOFs, then the horizontal force (n_x).
+    let normal = |l: usize, j: usize| {
+        if j < dofs {
+            mesh.normal_velocity[(l, j)]
+        } else {
+            mesh.body[l].normal[0]
+        }
+    };
+    let mut near_field = DMatrix::zeros(dofs + 1, cosines.len());
+    for (h, wave) in incident.iter().enumerate() {
+        let psi: Vec<Complex64> = (0..n).map(|l| wave[l].0 + body_potential[h][l]).collect();
+        let tangential = tangential_derivative(&psi, &arc, closed, perimeter);
+        for j in 0..=dofs {
+            let velocity_term: f64 = (0..n)
+                .map(|l| tangential[l].norm_sqr() * normal(l, j) * mesh.body[l].length)
+                .sum();
+            let waterline_term: f64 = lines
+                .iter()
+                .map(|&(panels, s)| {
+                    let w = quadratic_weights(panels.map(|l| arc[l]), s);
+                    let at = |f: &dyn Fn(usize) -> f64| -> f64 {
+                        (0..3).map(|m| w[m] * f(panels[m])).sum()
+                    };
+                    let psi_wl: Complex64 = (0..3).map(|m| psi[panels[m]] * w[m]).sum();
+                    let n_x = at(&|l| mesh.body[l].normal[0]).abs();
+                    let n_j = at(&|l| normal(l, j));
+                    psi_wl.norm_sqr() * n_j / (4.0 * n_x.max(1e-3))
+                })
+                .sum();
+            near_field[(j, h)] = waterline_term - velocity_term / (4.0 * k);
+        }
+    }
+    Drift {
+        far_field,
+        near_field,
+        cosines: cosines.to_vec(),
+    }
+}
+
+#[cfg(test)]
+mod tests;
