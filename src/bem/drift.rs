@@ -60,6 +60,9 @@ pub struct Drift {
     pub near_field: DMatrix<f64>,
     /// The headings' transverse direction cosines (1: towards +x, -1: towards -x).
     pub cosines: Vec<f64>,
+    /// The DOFs whose normal velocity is the panel normal's x component (rigid sway): their
+    /// drift is the horizontal force, which the far field gives more accurately.
+    pub horizontal: Vec<bool>,
 }
 
 impl Drift {
@@ -72,6 +75,7 @@ impl Drift {
             far_field: far,
             near_field: (&self.near_field * a + &other.near_field * b) / c,
             cosines: self.cosines.clone(),
+            horizontal: self.horizontal.clone(),
         }
     }
 
@@ -105,6 +109,19 @@ impl Drift {
         self.near_field[(self.dof_count(), h)]
     }
 
+    /// The fixed section's mean drift per `rho g a^2`, one row per DOF, one column per heading:
+    /// the far field for a rigid sway DOF, pressure integration for the others.
+    pub fn mean_drift(&self) -> DMatrix<f64> {
+        let dofs = self.dof_count();
+        DMatrix::from_fn(dofs, self.cosines.len(), |j, h| {
+            if self.horizontal[j] {
+                self.horizontal_far_field(h)
+            } else {
+                self.near_field[(j, h)]
+            }
+        })
+    }
+
     /// Keeps the DOF rows `index` (in that order) and the rest.
     pub(crate) fn select(&self, index: &[usize]) -> Drift {
         let dofs = self.dof_count();
@@ -118,6 +135,7 @@ impl Drift {
             far_field: self.far_field.select_rows(&rows),
             near_field: self.near_field.select_rows(&near_rows),
             cosines: self.cosines.clone(),
+            horizontal: index.iter().map(|&j| self.horizontal[j]).collect(),
         }
     }
 }
@@ -314,10 +332,16 @@ pub(super) fn drift(
             near_field[(j, h)] = waterline_term - velocity_term / (4.0 * k);
         }
     }
+    let horizontal = (0..dofs)
+        .map(|j| {
+            (0..n).all(|l| (mesh.normal_velocity[(l, j)] - mesh.body[l].normal[0]).abs() <= 1e-12)
+        })
+        .collect();
     Drift {
         far_field,
         near_field,
         cosines: cosines.to_vec(),
+        horizontal,
     }
 }
 

@@ -3,7 +3,7 @@
 //! restricted to some of its DOFs.
 
 use super::{readable, SweepResult};
-use crate::bem::{WaveForces, HEADINGS};
+use crate::bem::{Drift, WaveForces, HEADINGS};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use std::io::Write;
@@ -147,6 +147,75 @@ impl SweepResult {
             &unit,
             rows,
         )
+    }
+
+    /// Writes the fixed section's mean drift table of docs/DESIGN.md: the added-mass table's
+    /// header lines, the DOFs' length exponents, then `kR,j,heading,value` with `value = D_j /
+    /// (rho g R^e_j)`, `a^2 D_j` the mean force in DOF j in a regular wave of amplitude `a`; the
+    /// frequencies in ascending order, each with headings 0 and 180 and every DOF. Frequencies
+    /// solved without the drift (oblique waves) are left out.
+    pub fn write_drift_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.write_header(out)?;
+        let exponents: Vec<String> = self
+            .length_exponents
+            .iter()
+            .map(|e| e.to_string())
+            .collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(
+            out,
+            "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a"
+        )?;
+        writeln!(
+            out,
+            "# body: fixed; rigid sway by the far field (Maruo), the other DOFs by pressure integration"
+        )?;
+        let drifts: Vec<(f64, &Drift)> = self
+            .kr
+            .iter()
+            .zip(&self.excitation)
+            .filter_map(|(kr, forces)| forces.drift.as_ref().map(|d| (*kr, d)))
+            .collect();
+        let largest = drifts
+            .iter()
+            .flat_map(|(_, d)| d.mean_drift().iter().map(|v| v.abs()).collect::<Vec<_>>())
+            .fold(0.0, f64::max);
+        let difference = drifts
+            .iter()
+            .flat_map(|(_, d)| {
+                (0..d.cosines.len())
+                    .map(|h| (d.horizontal_near_field(h) - d.horizontal_far_field(h)).abs())
+                    .collect::<Vec<_>>()
+            })
+            .fold(0.0, f64::max);
+        if largest > 0.0 {
+            writeln!(
+                out,
+                "# horizontal force, pressure integration against far field (max over kR of |difference| / max |D_j|): {:.2e}",
+                difference / largest
+            )?;
+        }
+        self.write_notes(out)?;
+        writeln!(out, "kR,j,heading,value")?;
+        let scale: Vec<f64> = self
+            .length_exponents
+            .iter()
+            .map(|&e| self.reference_half_beam.powi(i32::from(e)))
+            .collect();
+        for (kr, drift) in drifts {
+            let values = drift.mean_drift();
+            for (h, heading) in HEADINGS.iter().enumerate().take(values.ncols()) {
+                for j in 0..values.nrows() {
+                    writeln!(
+                        out,
+                        "{kr:e},{},{heading},{:e}",
+                        j + 1,
+                        values[(j, h)] / scale[j] + 0.0
+                    )?;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The lines every table starts with: hull, H/R, modes, convention, R, panels.

@@ -159,3 +159,48 @@ fn one_failed_frequency_is_reported_and_the_others_survive() {
     assert!(solutions[2].1.is_err());
     assert!(solutions.iter().filter(|(_, s)| s.is_ok()).count() == 3);
 }
+
+#[test]
+fn the_drift_table_is_nondimensional_and_mirrors_its_headings() {
+    // The same section at R = 1 m and R = 50 m: the same table values (to rounding), the
+    // rigid sway row the far field's, headings 0 and 180 mirrored (sway and roll change sign).
+    let params = SweepParams {
+        kr: vec![0.3, 1.0, 3.0],
+        panels: PanelParams {
+            body_panels: 32,
+            ..PanelParams::default()
+        },
+        ..SweepParams::default()
+    };
+    let table = |radius: f64| {
+        let result = run(&Hull::semicircle(radius).unwrap(), &params, &|_, _| {}).unwrap();
+        let mut text = Vec::new();
+        result.write_drift_csv(&mut text).unwrap();
+        (result, String::from_utf8(text).unwrap())
+    };
+    let (result, text) = table(1.0);
+    assert!(text.contains("# length exponents: 0 0 1 0 0 1 0 0 1\n"));
+    let rows = |text: &str| -> Vec<Vec<f64>> {
+        text.lines()
+            .skip_while(|l| *l != "kR,j,heading,value")
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let small = rows(&text);
+    assert_eq!(small.len(), 3 * 2 * 9);
+    let drift = result.excitation[1].drift.as_ref().unwrap();
+    // kR 1, heading 0, sway: Maruo's far field.
+    assert_eq!(small[2 * 9][3], drift.horizontal_far_field(0));
+    for block in small.chunks(18) {
+        let (h0, h180) = block.split_at(9);
+        assert!((h0[0][3] + h180[0][3]).abs() <= 1e-12 * h0[0][3].abs());
+        assert!((h0[1][3] - h180[1][3]).abs() <= 1e-12 * h0[1][3].abs());
+        assert!((h0[2][3] + h180[2][3]).abs() <= 1e-12);
+    }
+    let large = rows(&table(50.0).1);
+    for (a, b) in small.iter().zip(&large) {
+        let scale = a[3].abs().max(1e-3);
+        assert!((a[3] - b[3]).abs() <= 1e-9 * scale, "{a:?} {b:?}");
+    }
+}
