@@ -45,9 +45,10 @@ cargo test -p hydrofmu --lib model::snapshot::fuzz -- --nocapture
 step "release build of the FMU binary and fmu-pack"
 cargo build --release --workspace
 
-step "report generators, quick mode: their numbers against docs/VALIDATION.md and docs/PERFORMANCE.md"
+step "report generators, quick mode: their numbers against docs/VALIDATION.md, docs/PERFORMANCE.md and docs/DRIFT.md"
 cargo run --release -q -p fmu-pack --example validation -- --quick --out target/reports
 cargo run --release -q -p fmu-pack --example performance -- --quick --out target/reports
+cargo run --release -q -p fmu-pack --example drift -- --quick --out target/reports
 
 step "pytest (real FMU archives, built from the current source)"
 HYDROFMU_ROOT="$root" .venv/bin/python -m pytest -q tests/python

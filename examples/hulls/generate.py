@@ -28,20 +28,20 @@ def normalize(vectors):
     m = max(math.hypot(*v) for v in vectors)
     return [(v[0] / m, v[1] / m) for v in vectors]
 
-def write(name, header, half_beam, points, closed, rigid, modes):
+def write(name, header, half_beam, points, closed, rigid, modes, digits=4):
     lines = ['<?xml version="1.0" encoding="UTF-8"?>', "<!--"]
     lines += ["  " + h for h in header]
     lines += ["-->",
               '<hull name="%s" half_beam="%s" units="m" version="1">' % (name, fmt(half_beam, 4)),
               '  <contour closed="%s">' % ("true" if closed else "false")]
-    lines += ['    <point x="%s" y="%s"/>' % (fmt(x, 4), fmt(y, 4)) for x, y in points]
+    lines += ['    <point x="%s" y="%s"/>' % (fmt(x, digits), fmt(y, digits)) for x, y in points]
     lines += ["  </contour>"]
     for dof, kind, ref in rigid:
         if ref is None:
             lines.append('  <rigid name="%s" kind="%s"/>' % (dof, kind))
         else:
             lines.append('  <rigid name="%s" kind="%s" x="%s" y="%s"/>'
-                         % (dof, kind, fmt(ref[0], 4), fmt(ref[1], 4)))
+                         % (dof, kind, fmt(ref[0], digits), fmt(ref[1], digits)))
     for mname, comment, vecs in modes:
         assert len(vecs) == len(points)
         lines.append("  <!-- %s -->" % comment)
@@ -178,3 +178,23 @@ write("pontoon",
       [("bottom_plate", "bottom plate inward (up)", plate_vecs) for plate_vecs in
        [[plate(p, YC - H, 1.0) for p in pont]]] +
       [("top_plate", "top plate inward (down)", [plate(p, YC + H, -1.0) for p in pont])])
+
+# ---------------------------------------------------------------- Sundsdal et al. (2025) model
+# The 2D ship section of the flume experiment (docs/DRIFT.md): beam 0.40 m, draft 0.20 m,
+# bilge radius 0.0512 m, centre of gravity 0.106 m above the keel.
+SB, ST, SR = 0.2, 0.2, 0.0512
+KG = 0.106
+model = join(
+    line((-SB, 0), (-SB, -(ST - SR)), 6),
+    arc((-SB + SR, -(ST - SR)), SR, 180, 270, 6),
+    line((-SB + SR, -ST), (SB - SR, -ST), 12),
+    arc((SB - SR, -(ST - SR)), SR, 270, 360, 6),
+    line((SB, -(ST - SR)), (SB, 0), 6),
+)
+write("sundsdal",
+      ["The 2D ship section of Sundsdal, Greco, Hanssen and Lugni (2025, Ocean Engineering):",
+       "beam 0.40 m, draft 0.20 m, bilge radius 0.0512 m, wall-sided. Roll is about the",
+       "centre of gravity, 0.106 m above the keel."],
+      SB, model, False,
+      [("sway", "sway", None), ("heave", "heave", None), ("roll", "roll", (0, KG - ST))],
+      [], digits=5)
