@@ -48,6 +48,7 @@ pub mod hydrostatics;
 pub mod identify;
 pub mod input;
 pub mod model;
+pub mod motion;
 pub mod network;
 pub(crate) mod numerics;
 pub mod panels;

@@ -104,6 +104,33 @@ impl Drift {
         self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0
     }
 
+    /// The reflection and transmission coefficients of heading `h` for a section that moves
+    /// by `motion` per unit wave amplitude (every DOF, e.g. [`crate::motion::Floating::rao`]):
+    /// the scattered wave plus the waves the motion radiates.
+    pub fn coefficients_moving(&self, h: usize, motion: &[Complex64]) -> (Complex64, Complex64) {
+        let (reflected, transmitted) = if self.cosines[h] > 0.0 {
+            (0, 1)
+        } else {
+            (1, 0)
+        };
+        let radiated = |column: usize| -> Complex64 {
+            (0..self.dof_count())
+                .map(|j| motion[j] * self.far_field[(j, column)])
+                .sum()
+        };
+        (
+            self.reflection(h) + radiated(reflected),
+            self.transmission(h) + radiated(transmitted),
+        )
+    }
+
+    /// The mean horizontal force per `rho g a^2` on a section that moves by `motion`, by the
+    /// momentum of the far field: `c (1 + |R|^2 - |T|^2) / 4`.
+    pub fn horizontal_far_field_moving(&self, h: usize, motion: &[Complex64]) -> f64 {
+        let (r, t) = self.coefficients_moving(h, motion);
+        self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0
+    }
+
     /// The fixed section's mean horizontal force per `rho g a^2` by pressure integration.
     pub fn horizontal_near_field(&self, h: usize) -> f64 {
         self.near_field[(self.dof_count(), h)]

@@ -1,0 +1,256 @@
+//! A floating section's rigid motion in regular waves (its RAOs) from its mass properties.
+//!
+//! Per unit length and per unit wave amplitude, the rigid DOFs (sway, heave, roll about the hull's
+//! roll reference point `P`) move by `xi` solving
+//!
+//! ```text
+//! [ -omega^2 (M + a(omega)) + i omega (b(omega) + B_ext) + C + C_G + K_ext ] xi = X(omega)
+//! ```
+//!
+//! with `A~ = a - i b / omega` and `X` from the panel method, the hydrostatic restoring `C`
+//! ([`crate::hydrostatics`], buoyancy only), the weight's restoring in roll
+//! `C_G = -m g (y_G - y_P)`, and the rigid mass matrix of mass `m` (kg/m), centre of gravity `G`
+//! and radius of gyration `k` about G:
+//!
+//! ```text
+//! M = [ m             0             -m (y_G - y_P)          ]
+//!     [ 0             m              m (x_G - x_P)          ]
+//!     [ -m (y_G - y_P) m (x_G - x_P)  m (k^2 + |G - P|^2)    ]
+//! ```
+//!
+//! `K_ext` and `B_ext` are the user's external (mooring) stiffness and damping over the rigid DOFs.
+//! Elastic DOFs are held (`xi = 0`): their structural mass and stiffness are not in a hull file.
+//! A section floats freely in equilibrium when `m = rho A` (the displaced mass) and `x_G = x_B`;
+//! another mass is accepted (a mooring's pretension holds it) and noted by the caller.
+
+use crate::hull::{DofKind, Hull, RigidKind};
+use crate::hydrostatics::Hydrostatics;
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+use std::fmt;
+
+/// A section's mass properties and its external (mooring) stiffness and damping.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassProperties {
+    /// Mass per unit length, kg/m (> 0).
+    pub mass: f64,
+    /// Centre of gravity (x, y), m, in the hull's frame (y up, free surface y = 0).
+    pub centre_of_gravity: [f64; 2],
+    /// Radius of gyration about the centre of gravity, m (>= 0).
+    pub radius_of_gyration: f64,
+    /// External stiffness over the hull's rigid DOFs (in the hull's order), SI per unit
+    /// length; empty for none.
+    pub stiffness: DMatrix<f64>,
+    /// External damping over the hull's rigid DOFs, SI per unit length; empty for none.
+    pub damping: DMatrix<f64>,
+}
+
+/// Why a motion cannot be computed.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MotionError {
+    /// A field is not finite or out of its range (named, with the reason).
+    Field {
+        /// The field, e.g. `mass`.
+        field: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The hull has no rigid DOF to move.
+    NoRigidDof,
+    /// The equation of motion is singular at this frequency (a DOF with neither inertia,
+    /// restoring nor damping).
+    Singular {
+        /// Wave frequency, rad/s.
+        omega: f64,
+    },
+}
+
+impl fmt::Display for MotionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MotionError::Field { field, reason } => write!(f, "mass properties: {field} {reason}"),
+            MotionError::NoRigidDof => f.write_str(
+                "mass properties: the hull has no rigid DOF (sway, heave or roll) to move",
+            ),
+            MotionError::Singular { omega } => write!(
+                f,
+                "the equation of motion is singular at omega = {omega} rad/s (a DOF without \
+                 inertia, restoring or damping)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for MotionError {}
+
+/// A section that floats: the equation of motion's frequency-independent parts.
+#[derive(Clone, Debug)]
+pub struct Floating {
+    /// The hull's DOF index of each rigid DOF.
+    rigid: Vec<usize>,
+    /// The hull's DOF count.
+    dof_count: usize,
+    /// Mass matrix over the rigid DOFs, per rho (m^2 ...).
+    mass: DMatrix<f64>,
+    /// Hydrostatic, weight and external restoring over the rigid DOFs, per rho.
+    restoring: DMatrix<f64>,
+    /// External damping over the rigid DOFs, per rho.
+    damping: DMatrix<f64>,
+}
+
+fn check(field: &'static str, value: f64, lower: f64) -> Result<(), MotionError> {
+    if value.is_finite() && value >= lower {
+        Ok(())
+    } else {
+        Err(MotionError::Field {
+            field,
+            reason: format!("is {value}: expected a finite number >= {lower}"),
+        })
+    }
+}
+
+impl Floating {
+    /// The rigid DOFs of `hull` with `properties`, in water of density `rho` and gravity `g`.
+    ///
+    /// # Errors
+    /// A mass that is not finite and positive, a negative or non-finite radius of gyration, a
+    /// centre of gravity farther than 100 half-beams from the origin, external matrices of the
+    /// wrong size or not finite, or a hull without rigid DOFs.
+    pub fn new(
+        hull: &Hull,
+        hydrostatics: &Hydrostatics,
+        properties: &MassProperties,
+        rho: f64,
+        g: f64,
+    ) -> Result<Floating, MotionError> {
+        let p = properties;
+        if !(p.mass.is_finite() && p.mass > 0.0) {
+            return Err(MotionError::Field {
+                field: "mass",
+                reason: format!("is {}: expected a finite mass > 0 kg/m", p.mass),
+            });
+        }
+        check("radius_of_gyration", p.radius_of_gyration, 0.0)?;
+        let reach = 100.0 * hull.reference_half_beam();
+        for (field, value) in [
+            ("x_G", p.centre_of_gravity[0]),
+            ("y_G", p.centre_of_gravity[1]),
+        ] {
+            if !(value.is_finite() && value.abs() <= reach) {
+                return Err(MotionError::Field {
+                    field,
+                    reason: format!(
+                        "is {value} m: expected within 100 half-beams ({reach} m) of the origin"
+                    ),
+                });
+            }
+        }
+        let mut rigid = Vec::new();
+        let mut kinds = Vec::new();
+        for dof in 0..hull.dof_count() {
+            if let Some(DofKind::Rigid { kind, reference }) = hull.dof_kind(dof) {
+                rigid.push(dof);
+                kinds.push((kind, reference));
+            }
+        }
+        if rigid.is_empty() {
+            return Err(MotionError::NoRigidDof);
+        }
+        let n = rigid.len();
+        for (field, matrix) in [("stiffness", &p.stiffness), ("damping", &p.damping)] {
+            let empty = matrix.nrows() == 0 && matrix.ncols() == 0;
+            if !empty && (matrix.nrows() != n || matrix.ncols() != n) {
+                return Err(MotionError::Field {
+                    field,
+                    reason: format!(
+                        "is {}x{}: expected {n}x{n} (the hull's rigid DOFs)",
+                        matrix.nrows(),
+                        matrix.ncols()
+                    ),
+                });
+            }
+            if matrix.iter().any(|v| !v.is_finite()) {
+                return Err(MotionError::Field {
+                    field,
+                    reason: "has an entry that is not finite".into(),
+                });
+            }
+        }
+        let (m, [xg, yg], k) = (p.mass, p.centre_of_gravity, p.radius_of_gyration);
+        let mut mass = DMatrix::zeros(n, n);
+        let mut weight = DMatrix::zeros(n, n);
+        for (a, &(kind_a, point)) in kinds.iter().enumerate() {
+            let (dx, dy) = (xg - point[0], yg - point[1]);
+            // Displacement of G per unit DOF: sway (1, 0), heave (0, 1), roll (-dy, dx).
+            let motion = |kind: RigidKind| match kind {
+                RigidKind::Sway => [1.0, 0.0],
+                RigidKind::Heave => [0.0, 1.0],
+                RigidKind::Roll => [-dy, dx],
+            };
+            for (b, &(kind_b, _)) in kinds.iter().enumerate() {
+                let (u, v) = (motion(kind_a), motion(kind_b));
+                mass[(a, b)] = m * (u[0] * v[0] + u[1] * v[1]);
+                if kind_a == RigidKind::Roll && kind_b == RigidKind::Roll {
+                    mass[(a, b)] += m * k * k;
+                    weight[(a, b)] = -m * g * dy;
+                }
+            }
+        }
+        let hydro = DMatrix::from_fn(n, n, |a, b| {
+            hydrostatics.stiffness_per_rho_g[(rigid[a], rigid[b])] * rho * g
+        });
+        let external = |matrix: &DMatrix<f64>| {
+            if matrix.is_empty() {
+                DMatrix::zeros(n, n)
+            } else {
+                matrix.clone()
+            }
+        };
+        Ok(Floating {
+            dof_count: hull.dof_count(),
+            mass: mass / rho,
+            restoring: (hydro + weight + external(&p.stiffness)) / rho,
+            damping: external(&p.damping) / rho,
+            rigid,
+        })
+    }
+
+    /// The motion per unit wave amplitude of every DOF (held DOFs zero) at `omega` (rad/s),
+    /// from the complex added mass per rho (`A~ / rho`, all DOFs) and the exciting force per
+    /// `rho g a` (all DOFs) of one heading.
+    ///
+    /// # Errors
+    /// A singular equation of motion.
+    pub fn rao(
+        &self,
+        omega: f64,
+        g: f64,
+        added_mass_per_rho: &DMatrix<Complex64>,
+        excitation_per_rho_g: &[Complex64],
+    ) -> Result<DVector<Complex64>, MotionError> {
+        let n = self.rigid.len();
+        let w = Complex64::new(omega, 0.0);
+        let i = Complex64::new(0.0, 1.0);
+        let system = DMatrix::from_fn(n, n, |a, b| {
+            let added = added_mass_per_rho[(self.rigid[a], self.rigid[b])];
+            -w * w * (self.mass[(a, b)] + added)
+                + i * w * self.damping[(a, b)]
+                + self.restoring[(a, b)]
+        });
+        let force = DVector::from_fn(n, |a, _| excitation_per_rho_g[self.rigid[a]] * g);
+        let solved = system
+            .lu()
+            .solve(&force)
+            .filter(|x| x.iter().all(|z| z.re.is_finite() && z.im.is_finite()))
+            .ok_or(MotionError::Singular { omega })?;
+        let mut out = DVector::zeros(self.dof_count);
+        for (a, &dof) in self.rigid.iter().enumerate() {
+            out[dof] = solved[a];
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests;
