@@ -169,15 +169,13 @@ impl From<FileError> for String {
 
 /// The bytes of the regular file `path`, of at most `max_bytes`; `limit_name` names the limit
 /// (its constant) in the error. A named pipe, a device, a socket or a folder is refused before
-/// it is opened; the read stops at `max_bytes + 1` bytes (a file that grows while read).
+/// it is opened; the read stops at `max_bytes + 1` bytes (a file that grows while read). The
+/// error's text does not name the file: the caller does (`String::from` keeps its text).
 ///
 /// # Errors
-/// The file cannot be read, is not a regular file, or holds more than `max_bytes` bytes.
-pub(crate) fn read_bytes(
-    path: &Path,
-    max_bytes: u64,
-    limit_name: &str,
-) -> Result<Vec<u8>, ReadError> {
+/// [`ReadError`]: the file cannot be read, is not a regular file, or holds more than
+/// `max_bytes` bytes.
+pub fn read_bounded(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u8>, ReadError> {
     let too_large = |found: String| ReadError::TooLarge {
         found,
         limit_name: limit_name.to_string(),
@@ -203,35 +201,18 @@ pub(crate) fn read_bytes(
     Ok(bytes)
 }
 
-/// As `read_bytes`, for UTF-8 text.
+/// As [`read_bounded`], for UTF-8 text.
 ///
 /// # Errors
-/// As `read_bytes`, and text that is not UTF-8 (the byte offset named).
-pub(crate) fn read_text(
+/// As [`read_bounded`], and text that is not UTF-8 (the byte offset named).
+pub fn read_bounded_text(
     path: &Path,
     max_bytes: u64,
     limit_name: &str,
 ) -> Result<String, ReadError> {
-    String::from_utf8(read_bytes(path, max_bytes, limit_name)?).map_err(|e| ReadError::NotUtf8 {
+    String::from_utf8(read_bounded(path, max_bytes, limit_name)?).map_err(|e| ReadError::NotUtf8 {
         offset: e.utf8_error().valid_up_to(),
     })
-}
-
-/// `read_bytes` with the error as text (the message does not name the file: the caller
-/// does).
-///
-/// # Errors
-/// As `read_bytes`.
-pub fn read_bounded(path: &Path, max_bytes: u64, limit_name: &str) -> Result<Vec<u8>, String> {
-    Ok(read_bytes(path, max_bytes, limit_name)?)
-}
-
-/// `read_text` with the error as text.
-///
-/// # Errors
-/// As `read_text`.
-pub fn read_bounded_text(path: &Path, max_bytes: u64, limit_name: &str) -> Result<String, String> {
-    Ok(read_text(path, max_bytes, limit_name)?)
 }
 
 /// What a file that is not regular is, in words.
@@ -269,14 +250,16 @@ mod tests {
 
     #[test]
     fn a_device_is_refused_without_reading() {
-        let e = read_bounded(Path::new("/dev/zero"), 1 << 20, "LIMIT").unwrap_err();
+        let e = read_bounded(Path::new("/dev/zero"), 1 << 20, "LIMIT")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not a regular file (a device)"), "{e}");
     }
 
     #[test]
     fn a_folder_is_refused() {
         let dir = scratch("folder");
-        let e = read_bounded(&dir, 10, "LIMIT").unwrap_err();
+        let e = String::from(read_bounded(&dir, 10, "LIMIT").unwrap_err());
         assert!(e.contains("not a regular file (a folder)"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -287,7 +270,7 @@ mod tests {
         let path = dir.join("sparse");
         let file = std::fs::File::create(&path).unwrap();
         file.set_len(1001).unwrap();
-        let e = read_bounded(&path, 1000, "LIMIT").unwrap_err();
+        let e = read_bounded(&path, 1000, "LIMIT").unwrap_err().to_string();
         assert!(
             e.contains("1001 bytes") && e.contains("LIMIT = 1000 bytes"),
             "{e}"
@@ -303,15 +286,17 @@ mod tests {
         let path = dir.join("latin1");
         std::fs::write(&path, b"ab\xe9").unwrap();
         let e = read_bounded_text(&path, 10, "LIMIT").unwrap_err();
-        assert!(e.contains("offset 2"), "{e}");
+        assert_eq!(e, ReadError::NotUtf8 { offset: 2 });
+        assert!(e.to_string().contains("offset 2"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn read_errors_name_their_cause() {
-        let e = read_bytes(Path::new("/dev/zero"), 1 << 20, "LIMIT").unwrap_err();
+        let e = read_bounded(Path::new("/dev/zero"), 1 << 20, "LIMIT").unwrap_err();
         assert_eq!(e, ReadError::NotRegular { what: "a device" });
-        let missing = read_text(Path::new("/nonexistent/hydrofmu"), 10, "LIMIT").unwrap_err();
+        let missing =
+            read_bounded_text(Path::new("/nonexistent/hydrofmu"), 10, "LIMIT").unwrap_err();
         assert!(
             matches!(missing, ReadError::Io { kind, .. } if kind == std::io::ErrorKind::NotFound),
             "{missing:?}"

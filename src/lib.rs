@@ -1,20 +1,61 @@
 //! # hydrofmu
 //!
-//! Hydrodynamic radiation forces on a partially submerged, flexible 2D hull section, as an
-//! FMI 2.0 co-simulation unit, following Schilder et al., "Hydro-elasticity in flexible
-//! multibody dynamics".
+//! Hydrodynamic radiation and wave forces on partially submerged, flexible hulls, as an FMI 2.0
+//! or FMI 3.0 co-simulation unit, following Schilder et al., "Hydro-elasticity in flexible
+//! multibody dynamics". Its sources: 2D sections by the panel method (per unit length), ships
+//! by zero-speed strip theory over their sections, and imported WAMIT or Capytaine 3D
+//! databases. The FMU steps an equivalent mass-spring-damper network, and the incident waves
+//! with their exciting force.
 //!
-//! The data flow runs one way, one module per stage:
+//! ## The pipeline
+//!
+//! One stage a line, each with the module it lives in:
 //!
 //! ```text
-//! hull -> panels -> green -> bem -> sweep -> identify -> network -> realize -> discretize -> model
+//! source::Source        what the user names: a section, a ship file or a database file
+//!   section:  hull::Hull -> sweep (panel method) -> database::section::SectionDatabase
+//!   ship:     ship::Ship -> ship::strip::run (strip theory)
+//!   database: database::import::import (WAMIT NAME.1, Capytaine NAME.nc)
+//! database::Database    whole-body coefficients in SI; Database::response for the fit
+//! identify::fit         a passive network fitted to the added mass over a band
+//! network::Network      the mass-spring-damper network and its file format
+//! fmu::Archive          the .fmu: model description, resources, binary, documentation
 //! ```
+//!
+//! The types of every stage are re-exported here ([`Source`], [`Hull`], [`Ship`],
+//! [`Database`], [`FitParams`], [`FitReport`], [`Network`], [`Archive`], [`Body`]). A section
+//! may also go the short way through a [`Scene`] (hull, DOFs, band: sweep, response and fit in
+//! one). The [`fmu::archive`] module documentation holds a compiled example of the whole
+//! chain: it packs the built-in semicircle and `tests/data/wamit/sphere.1` into FMUs.
+//!
+//! The first two stages, from a file name to the data a fit takes:
+//!
+//! ```
+//! use hydrofmu::database::import::{import, ImportParams};
+//! use hydrofmu::{Database, Source};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let source = Source::from_argument("tests/data/wamit/sphere.1")?;
+//! let database: Database = match &source {
+//!     Source::Wamit(path) | Source::Capytaine(path) => import(path, &ImportParams::new())?,
+//!     other => return Err(format!("not a database: {other:?}").into()),
+//! };
+//! let response = database.response();
+//! assert_eq!(response.dof_names, database.dof_names);
+//! assert!(!source.is_section() && source.is_import());
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## The modules
 //!
 //! - [`hull`]: the section contour and its DOFs ([`Hull`]);
 //! - [`panels`]: the body and lid panels ([`PanelParams`]);
 //! - [`green`]: the free-surface Green function;
 //! - [`bem`]: the radiation problem at one frequency;
 //! - [`sweep`]: added mass and damping over a frequency grid ([`SweepParams`], [`SweepResult`]);
+//! - [`ship`]: ship files and strip theory ([`Ship`], [`ShipSweepParams`]);
+//! - [`database`]: whole-body coefficients, WAMIT and Capytaine files ([`Database`]);
 //! - [`identify`]: fits a passive network to the response ([`FrequencyResponse`],
 //!   [`FitParams`], [`FitReport`]);
 //! - [`network`]: the mass-spring-damper network and its file format ([`Network`]);
@@ -24,16 +65,20 @@
 //!
 //! Beside the chain: [`hydrostatics`] gives the linear restoring of every DOF
 //! ([`Hydrostatics`]), and [`waves`] the incident sea and its exciting force in the time domain,
-//! from the exciting forces the sweep computes with the added mass.
+//! from the exciting forces the sweep computes with the added mass. [`passivity`] checks a
+//! network's passivity.
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
-//! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID) and [`fmi`] (the
-//! exported C functions of FMI 2.0 and of FMI 3.0, over one instance) make the FMU. [`units`] and [`xml`] support every stage.
+//! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID, the archive) and
+//! [`fmi`] (the exported C functions of FMI 2.0 and of FMI 3.0, over one instance) make the
+//! FMU. [`input`] reads the user's files within bounds ([`FileError`], [`ReadError`]);
+//! [`units`] and [`xml`] support every stage.
 //!
-//! Conventions (every module): 2D, per unit length of hull, SI units; x to the right, y up,
-//! mean free surface y = 0, fluid in y < 0, infinite depth; time factor `exp(+i omega t)`;
-//! wavenumber `k = omega^2 / g`; unit normal pointing out of the fluid into the body; complex
-//! added mass `A~_ij(omega) = rho * integral n_i phi_j ds = a_ij - i b_ij / omega`.
+//! Conventions of a section (docs/DESIGN.md; ships and databases: [`database`]): 2D, per unit
+//! length of hull, SI units; x to the right, y up, mean free surface y = 0, fluid in y < 0,
+//! infinite depth; time factor `exp(+i omega t)`; wavenumber `k = omega^2 / g`; unit normal
+//! pointing out of the fluid into the body; complex added mass
+//! `A~_ij(omega) = rho * integral n_i phi_j ds = a_ij - i b_ij / omega`.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -63,16 +108,23 @@ pub mod waves;
 pub mod xml;
 
 pub use bem::BemError;
+pub use database::{Database, DatabaseError};
 pub use discretize::DiscretizeError;
-pub use fmu::{Resources, ResourcesError, VariablesError};
+pub use fmu::{
+    Archive, ArchiveError, Body, FmiVersion, PackedNetwork, Resources, ResourcesError,
+    VariablesError,
+};
 pub use green::GreenError;
 pub use hull::{Hull, HullError};
 pub use hydrostatics::{Hydrostatics, HydrostaticsError};
 pub use identify::{FitParams, FitReport, FrequencyResponse, IdentifyError};
+pub use input::{FileError, ReadError};
 pub use model::{Model, ModelError, ModelOptions};
 pub use network::{Branch, Network, NetworkError, NetworkForm, Stage};
 pub use panels::{PanelError, PanelParams};
 pub use realize::StateSpace;
 pub use scene::{Band, Scene, SceneError, SceneReport};
+pub use ship::{Ship, ShipError, ShipSweepParams};
+pub use source::{Source, SourceError};
 pub use sweep::{SweepError, SweepParams, SweepResult};
 pub use xml::XmlError;

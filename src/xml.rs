@@ -282,7 +282,7 @@ pub(crate) fn unescape(raw: &str) -> Result<String, UnescapeError> {
 
 /// A text `unescape` refuses: where its bad `&` is, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnescapeError {
+pub(crate) struct UnescapeError {
     /// Byte offset of the bad `&`.
     pub offset: usize,
     /// What is wrong with it.

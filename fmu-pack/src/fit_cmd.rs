@@ -114,6 +114,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
                 &fitted.fit,
                 source,
                 ("omega (rad/s)", &|omega| omega),
+                (&fitted.database.dof_units, hydrofmu::fmu::Extent::WholeBody),
             );
             stage_figures(&mut outputs, figures, dir)?;
         }

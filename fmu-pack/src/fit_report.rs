@@ -3,6 +3,7 @@
 
 use crate::pipeline::Built;
 use fmu_pack::plot::{self, Figure, Scale, Style};
+use hydrofmu::fmu::{DofUnit, Extent};
 use hydrofmu::units;
 use std::fmt::Write as _;
 
@@ -98,23 +99,41 @@ pub fn text(built: &Built) -> String {
 pub fn plots(built: &Built) -> Vec<(String, String)> {
     let radius = built.sweep.reference_half_beam;
     let g = built.response.fitted.g;
+    let dofs = built.scene.scene().hull.dof_units();
     fit_plots(
         &built.response.fitted,
         &built.fit,
         "panel method",
         ("kR", &|omega| units::kr_from_omega(omega, radius, g)),
+        (&dofs, Extent::PerUnitLength),
     )
 }
 
+/// The unit of `A~_ij` (SI) for DOFs of length exponents `e_i`, `e_j` (their sum 0, 1, 2:
+/// translation-translation, rotation-translation, rotation-rotation; a mode amplitude counts
+/// as a rotation): `kg`, `kg.m`, `kg.m2` of a whole body, or per metre of a section (`kg/m`,
+/// `kg.m/m`, `kg.m2/m`).
+pub fn added_mass_unit(i: &DofUnit, j: &DofUnit, extent: Extent) -> String {
+    let whole = Extent::WholeBody.added_mass_unit(i.length_exponent + j.length_exponent);
+    match extent {
+        Extent::WholeBody => whole.to_string(),
+        Extent::PerUnitLength => format!("{whole}/m"),
+    }
+}
+
 /// [`plots`] for any fitted response: `source` names the data, `axis` the x axis (its label
-/// and its value at a frequency in rad/s; logarithmic).
+/// and its value at a frequency in rad/s; logarithmic), `units` the DOFs' units (found by
+/// name) and whether the data is per unit length.
 pub fn fit_plots(
     response: &hydrofmu::FrequencyResponse,
     fit: &hydrofmu::identify::FitReport,
     source: &str,
     axis: (&str, &dyn Fn(f64) -> f64),
+    units: (&[DofUnit], Extent),
 ) -> Vec<(String, String)> {
     let (label, x) = axis;
+    let (dofs, extent) = units;
+    let unit_of = |name: &str| dofs.iter().find(|d| d.name == name);
     let names = &response.dof_names;
     let mut out = Vec::new();
     for i in 0..names.len() {
@@ -122,10 +141,19 @@ pub fn fit_plots(
             if fit.error_scale[(i, j)] <= 0.0 {
                 continue;
             }
+            let y_label = match (unit_of(&names[i]), unit_of(&names[j])) {
+                (Some(a), Some(b)) => format!(
+                    "A~({}, {}) ({})",
+                    names[i],
+                    names[j],
+                    added_mass_unit(a, b, extent)
+                ),
+                _ => format!("A~({}, {}) (SI)", names[i], names[j]),
+            };
             let mut figure = Figure::new(
                 &format!("A~({}, {}): {source} and network", names[i], names[j]),
                 label,
-                "A~ (SI)",
+                &y_label,
             );
             figure.x_scale = Scale::Log;
             let data = |part: fn(num_complex::Complex64) -> f64| {
@@ -164,4 +192,75 @@ pub fn fit_plots(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hydrofmu::identify::{self, FitParams};
+    use hydrofmu::{Branch, FrequencyResponse, Network, NetworkForm, Stage};
+    use nalgebra::{DMatrix, DVector};
+
+    /// A roll-only response from one mass-spring-damper stage, and its fit.
+    fn roll_fit() -> (FrequencyResponse, hydrofmu::FitReport) {
+        let (mass, omega_n) = (2.0e3, 1.2);
+        let network = Network {
+            dof_names: vec!["roll".into()],
+            added_mass_inf: DMatrix::from_element(1, 1, 5.0e2),
+            branches: vec![Branch {
+                direction: DVector::from_element(1, 1.0),
+                stages: vec![Stage {
+                    mass,
+                    stiffness: mass * omega_n * omega_n,
+                    damping: 0.6 * omega_n * mass,
+                }],
+            }],
+            substructures: Vec::new(),
+            rho: 1025.0,
+            g: 9.81,
+            form: NetworkForm::SeriesChain,
+        };
+        let omega: Vec<f64> = (0..40).map(|k| 0.2 * 1.06f64.powi(k)).collect();
+        let response = FrequencyResponse::from_network(&network, &omega);
+        let params = FitParams {
+            band: (omega[0], omega[omega.len() - 1]),
+            form: Some(NetworkForm::SeriesChain),
+            ..FitParams::default()
+        };
+        let fit = identify::fit(&response, &params).unwrap();
+        (response, fit)
+    }
+
+    #[test]
+    fn a_rotation_rotation_entry_is_plotted_in_its_unit() {
+        let (response, fit) = roll_fit();
+        let roll = [DofUnit::builtin("roll").unwrap()];
+        let axis: (&str, &dyn Fn(f64) -> f64) = ("omega (rad/s)", &|omega| omega);
+        for (extent, unit) in [
+            (Extent::PerUnitLength, "(kg.m2/m)"),
+            (Extent::WholeBody, "(kg.m2)"),
+        ] {
+            let figures = fit_plots(&response, &fit, "data", axis, (&roll, extent));
+            assert_eq!(figures.len(), 1);
+            let (name, svg) = &figures[0];
+            assert_eq!(name, "fit-roll-roll.svg");
+            let y_label = format!("A~(roll, roll) {unit}");
+            assert!(svg.contains(&y_label), "{y_label} missing:\n{svg}");
+            assert!(svg.contains(">omega (rad/s)<"), "{svg}");
+        }
+    }
+
+    #[test]
+    fn added_mass_units_follow_the_length_exponents() {
+        let sway = DofUnit::builtin("sway").unwrap();
+        let roll = DofUnit::builtin("roll").unwrap();
+        let mode = DofUnit::new("vb1", 1, false);
+        let section = Extent::PerUnitLength;
+        assert_eq!(added_mass_unit(&sway, &sway, section), "kg/m");
+        assert_eq!(added_mass_unit(&sway, &roll, section), "kg.m/m");
+        assert_eq!(added_mass_unit(&roll, &roll, section), "kg.m2/m");
+        assert_eq!(added_mass_unit(&sway, &sway, Extent::WholeBody), "kg");
+        assert_eq!(added_mass_unit(&mode, &sway, Extent::WholeBody), "kg.m");
+        assert_eq!(added_mass_unit(&mode, &mode, Extent::WholeBody), "kg.m2");
+    }
 }

@@ -107,11 +107,14 @@ impl Outputs {
     /// # Errors
     /// `path` is a folder, or `write` fails (its message, the temporary path replaced by
     /// `path`).
-    pub fn with_path(
+    pub fn with_path<E>(
         &mut self,
         path: &Path,
-        write: impl FnOnce(&Path) -> Result<(), String>,
-    ) -> Result<(), String> {
+        write: impl FnOnce(&Path) -> Result<(), E>,
+    ) -> Result<(), String>
+    where
+        String: From<E>,
+    {
         if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
             return Err(format!("cannot write {}: it is a folder", path.display()));
         }
@@ -122,8 +125,8 @@ impl Outputs {
             temporary: temporary.clone(),
             target: path.to_path_buf(),
         });
-        result.map_err(|m| {
-            m.replace(
+        result.map_err(|e| {
+            String::from(e).replace(
                 &temporary.display().to_string(),
                 &path.display().to_string(),
             )

@@ -8,7 +8,7 @@
 //! grid's points, zero at `omega = 0` (a 3D body radiates no energy in infinitely long waves),
 //! and beyond the last point `b(omega_N) (omega_N / nu)^p` with `p` from the last two points
 //! (clamped to 1..8). The estimate is the median over the upper half of the grid (where
-//! `a - A_inf` is smallest), at most [`MAX_ESTIMATE_FREQUENCIES`] of its frequencies evenly
+//! `a - A_inf` is smallest), at most `MAX_ESTIMATE_FREQUENCIES` = 128 of its frequencies evenly
 //! spread by index: each estimate integrates over the whole grid, so the cost is
 //! `MAX_ESTIMATE_FREQUENCIES` times the rows, linear in them. How well the data fixes it: the
 //! sum of the half range of the per-frequency estimates and the tail's share (the change when
@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 /// The estimate and how well the data fixes it.
 #[derive(Clone, Debug)]
-pub struct Estimate {
+pub(crate) struct Estimate {
     /// `A_inf`, SI, symmetric.
     pub added_mass_inf: DMatrix<f64>,
     /// The uncertainty per entry, SI: the per-frequency estimates' half range plus the tail's
@@ -32,7 +32,7 @@ pub struct Estimate {
 
 /// Most frequencies the median is over: beyond, every `k`-th of the upper half (evenly by
 /// index), which keeps the estimate's cost linear in the grid.
-pub const MAX_ESTIMATE_FREQUENCIES: usize = 128;
+pub(crate) const MAX_ESTIMATE_FREQUENCIES: usize = 128;
 
 /// `PV integral_0^inf b(nu) / (nu^2 - w^2) d nu` for `b` linear between `(nodes, values)`
 /// (`nodes[0] = 0`) and `b_N (w_N / nu)^p` beyond, and the same integral cut at the last
@@ -86,7 +86,7 @@ fn tail_exponent(omega: &[f64], damping: &[f64]) -> f64 {
 
 /// Estimates `A_inf` from `A~(omega)` on an ascending grid of at least 3 frequencies;
 /// `None` with fewer.
-pub fn estimate(omega: &[f64], added_mass: &[DMatrix<Complex64>]) -> Option<Estimate> {
+pub(crate) fn estimate(omega: &[f64], added_mass: &[DMatrix<Complex64>]) -> Option<Estimate> {
     let count = omega.len();
     if count < 3 || added_mass.len() != count {
         return None;

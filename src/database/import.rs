@@ -55,15 +55,15 @@ fn is_netcdf_path(path: &Path) -> bool {
 }
 
 /// The bytes of a regular file of at most [`wamit::MAX_FILE_BYTES`]
-/// (`read_bytes`).
+/// ([`crate::input::read_bounded`]).
 fn read_bounded_bytes(path: &Path) -> Result<Vec<u8>, DatabaseError> {
-    crate::input::read_bytes(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
+    crate::input::read_bounded(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
         .map_err(|cause| DatabaseError::unreadable(&path.display().to_string(), cause))
 }
 
 /// As [`read_bounded_bytes`], for text.
 fn read_bounded(path: &Path) -> Result<String, DatabaseError> {
-    crate::input::read_text(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
+    crate::input::read_bounded_text(path, wamit::MAX_FILE_BYTES, "MAX_FILE_BYTES")
         .map_err(|cause| DatabaseError::unreadable(&path.display().to_string(), cause))
 }
 

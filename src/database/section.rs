@@ -314,8 +314,8 @@ impl SectionDatabase {
     /// m) when the section rolls.
     ///
     /// # Errors
-    /// The file cannot be written.
-    pub fn write_netcdf(&self, path: &std::path::Path) -> Result<(), String> {
+    /// [`super::capytaine::WriteError`]: the file cannot be written (its text names the file).
+    pub fn write_netcdf(&self, path: &std::path::Path) -> Result<(), super::capytaine::WriteError> {
         use super::capytaine::Attribute;
         let mut attributes = vec![
             (
@@ -328,11 +328,7 @@ impl SectionDatabase {
         if let Some([x, y]) = self.roll_centre {
             attributes.push(("rotation_center", Attribute::Numbers(vec![0.0, x, y])));
         }
-        Ok(super::capytaine::write_with(
-            &self.database,
-            path,
-            &attributes,
-        )?)
+        super::capytaine::write_with(&self.database, path, &attributes)
     }
 }
 

@@ -196,7 +196,11 @@ impl Resources {
 /// The text of the regular file `path` if it holds at most `limit` bytes
 /// ([`crate::input::read_bounded_text`]).
 fn read_bounded(path: &Path, limit: usize) -> Result<String, String> {
-    crate::input::read_bounded_text(path, limit as u64, "MAX_INPUT_BYTES")
+    Ok(crate::input::read_bounded_text(
+        path,
+        limit as u64,
+        "MAX_INPUT_BYTES",
+    )?)
 }
 
 /// `keep_inf_mass` of `options.xml`: the root `<hydrofmu_options format="1" keep_inf_mass="true|false"/>`.

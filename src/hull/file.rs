@@ -18,8 +18,9 @@ impl Hull {
     /// Reads a hull file (format: `docs/HULL_FORMAT.md`).
     pub fn from_file(path: &Path) -> Result<Hull, HullError> {
         let source = path.display().to_string();
-        let text = crate::input::read_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
-            .map_err(|cause| HullError::unreadable(&source, cause))?;
+        let text =
+            crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
+                .map_err(|cause| HullError::unreadable(&source, cause))?;
         Hull::from_xml_str(&text, &source)
     }
 

@@ -127,10 +127,10 @@ impl Network {
             crate::xml::MAX_INPUT_BYTES as u64,
             "MAX_INPUT_BYTES",
         )
-        .map_err(|message| NetworkError::File {
+        .map_err(|cause| NetworkError::File {
             source: path.display().to_string(),
             line: None,
-            message,
+            message: cause.to_string(),
         })?;
         Network::from_xml_str(&text, &path.display().to_string())
     }

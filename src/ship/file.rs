@@ -91,7 +91,7 @@ fn distinct(hull: Hull, sections: &mut Vec<Hull>, fingerprints: &mut Vec<String>
 
 /// The text of a ship, section or offset file, within [`xml::MAX_INPUT_BYTES`].
 fn read_bounded(path: &Path) -> Result<String, crate::input::ReadError> {
-    crate::input::read_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
+    crate::input::read_bounded_text(path, xml::MAX_INPUT_BYTES as u64, "MAX_INPUT_BYTES")
 }
 
 fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError> {
@@ -474,7 +474,8 @@ fn girder_dofs(
         if n == 0 {
             continue;
         }
-        let found = modes(kind, &x, &field(inertia)?, &field(stiffness)?, n).map_err(err)?;
+        let found = modes(kind, &x, &field(inertia)?, &field(stiffness)?, n)
+            .map_err(|e| err(e.to_string()))?;
         for (k, mode) in found.into_iter().enumerate() {
             let motions = mode
                 .shape

@@ -19,6 +19,7 @@
 //! girder, for a scene that needs its lowest wet modes.
 
 use nalgebra::{DMatrix, DVector};
+use std::fmt;
 
 /// One computed mode: shape at the stations and its dry modal properties.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,12 +45,94 @@ pub enum GirderKind {
     Torsion,
 }
 
+/// Why [`modes`] found no modes.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum GirderError {
+    /// Not one inertia and one stiffness per station.
+    DataLength,
+    /// A station's inertia or stiffness is not positive and finite.
+    BadStation {
+        /// 1-based station.
+        station: usize,
+        /// Its position, m.
+        x: f64,
+    },
+    /// More modes asked than the stations carry.
+    TooManyModes {
+        /// The motion.
+        kind: GirderKind,
+        /// Modes asked.
+        count: usize,
+        /// Stations given.
+        stations: usize,
+        /// The most elastic modes they carry.
+        most: usize,
+    },
+    /// The consistent mass matrix has no Cholesky factor.
+    MassNotPositiveDefinite,
+    /// Its Cholesky factor cannot be inverted.
+    MassSingular,
+    /// An elastic eigenvalue is not positive and finite.
+    EigenvalueNotPositive {
+        /// The motion.
+        kind: GirderKind,
+        /// 1-based elastic mode.
+        mode: usize,
+        /// The eigenvalue `omega^2`.
+        eigenvalue: f64,
+    },
+}
+
+impl fmt::Display for GirderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GirderError::DataLength => {
+                f.write_str("one inertia and one stiffness per station are needed")
+            }
+            GirderError::BadStation { station, x } => write!(
+                f,
+                "station {station} at x = {x} m: the structural data must be positive and finite"
+            ),
+            GirderError::TooManyModes {
+                kind,
+                count,
+                stations,
+                most,
+            } => write!(
+                f,
+                "{count} {kind:?} modes asked, but {stations} stations carry at most {most}"
+            ),
+            GirderError::MassNotPositiveDefinite => {
+                f.write_str("the girder's mass matrix is not positive definite")
+            }
+            GirderError::MassSingular => f.write_str("the girder's mass matrix is singular"),
+            GirderError::EigenvalueNotPositive {
+                kind,
+                mode,
+                eigenvalue,
+            } => write!(
+                f,
+                "{kind:?} mode {mode}: eigenvalue {eigenvalue} is not positive"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GirderError {}
+
+impl From<GirderError> for String {
+    fn from(error: GirderError) -> String {
+        error.to_string()
+    }
+}
+
 /// The lowest `count` elastic free-free modes of a girder on stations `x` (increasing) with
 /// per-station `inertia` (mass per length, or torsional inertia per length) and `stiffness`
 /// (EI, or GJ).
 ///
 /// # Errors
-/// Fewer than 2 stations for torsion or 3 for bending (not enough elements for the modes
+/// [`GirderError`]: fewer than 2 stations for torsion or 3 for bending (not enough elements for the modes
 /// asked), more modes than the discretization has, data not positive and finite, or an
 /// eigenproblem that fails.
 pub fn modes(
@@ -58,10 +141,10 @@ pub fn modes(
     inertia: &[f64],
     stiffness: &[f64],
     count: usize,
-) -> Result<Vec<GirderMode>, String> {
+) -> Result<Vec<GirderMode>, GirderError> {
     let n = x.len();
     if inertia.len() != n || stiffness.len() != n {
-        return Err("one inertia and one stiffness per station are needed".into());
+        return Err(GirderError::DataLength);
     }
     if let Some(k) = (0..n).find(|&k| {
         !(inertia[k].is_finite()
@@ -69,11 +152,10 @@ pub fn modes(
             && stiffness[k].is_finite()
             && stiffness[k] > 0.0)
     }) {
-        return Err(format!(
-            "station {} at x = {} m: the structural data must be positive and finite",
-            k + 1,
-            x[k]
-        ));
+        return Err(GirderError::BadStation {
+            station: k + 1,
+            x: x[k],
+        });
     }
     let (k_matrix, m_matrix, rigid, per_node) = match kind {
         GirderKind::Torsion => {
@@ -87,19 +169,21 @@ pub fn modes(
     };
     let size = k_matrix.nrows();
     if count + rigid > size {
-        return Err(format!(
-            "{count} {kind:?} modes asked, but {n} stations carry at most {}",
-            size - rigid
-        ));
+        return Err(GirderError::TooManyModes {
+            kind,
+            count,
+            stations: n,
+            most: size - rigid,
+        });
     }
     let cholesky = m_matrix
         .clone()
         .cholesky()
-        .ok_or("the girder's mass matrix is not positive definite")?;
+        .ok_or(GirderError::MassNotPositiveDefinite)?;
     let l_inverse = cholesky
         .l()
         .try_inverse()
-        .ok_or("the girder's mass matrix is singular")?;
+        .ok_or(GirderError::MassSingular)?;
     let reduced = &l_inverse * &k_matrix * l_inverse.transpose();
     let eigen = crate::numerics::symmetric_eigen(&reduced);
     let mut order: Vec<usize> = (0..size).collect();
@@ -108,10 +192,11 @@ pub fn modes(
     for &k in order.iter().skip(rigid).take(count) {
         let lambda = eigen.eigenvalues[k];
         if !(lambda.is_finite() && lambda > 0.0) {
-            return Err(format!(
-                "{kind:?} mode {}: eigenvalue {lambda} is not positive",
-                out.len() + 1
-            ));
+            return Err(GirderError::EigenvalueNotPositive {
+                kind,
+                mode: out.len() + 1,
+                eigenvalue: lambda,
+            });
         }
         let phi: DVector<f64> = l_inverse.transpose() * eigen.eigenvectors.column(k);
         let mut shape: Vec<f64> = (0..n).map(|i| phi[i * per_node]).collect();
@@ -269,8 +354,16 @@ mod tests {
             1,
         )
         .unwrap_err();
-        assert!(e.contains("station 3 at x = 0 m"), "{e}");
+        assert_eq!(e, GirderError::BadStation { station: 3, x: 0.0 });
+        assert!(e.to_string().contains("station 3 at x = 0 m"), "{e}");
         let e = modes(GirderKind::Torsion, &x, &[1.0; 5], &[1.0; 5], 5).unwrap_err();
-        assert!(e.contains("at most 4"), "{e}");
+        assert!(
+            matches!(e, GirderError::TooManyModes { most: 4, .. }),
+            "{e:?}"
+        );
+        assert_eq!(
+            String::from(e),
+            "5 Torsion modes asked, but 5 stations carry at most 4"
+        );
     }
 }

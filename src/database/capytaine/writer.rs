@@ -74,9 +74,9 @@ fn capytaine_name(name: &str) -> String {
 /// `forward_speed = 0`, `water_depth = inf`.
 ///
 /// # Errors
-/// The file cannot be written (the message names it).
-pub fn write(database: &Database, path: &std::path::Path) -> Result<(), String> {
-    Ok(write_with(database, path, &[])?)
+/// [`WriteError`]: the file cannot be written (its text names the file).
+pub fn write(database: &Database, path: &std::path::Path) -> Result<(), WriteError> {
+    write_with(database, path, &[])
 }
 
 /// The value of a global attribute of [`write_with`].

@@ -234,7 +234,7 @@ pub fn mode_indices(names: &[String]) -> Vec<usize> {
 }
 
 /// `e_i`: 1 for the rotations 4..6, 0 for the translations and the generalized modes.
-pub fn length_exponent(mode: usize) -> u8 {
+pub(crate) fn length_exponent(mode: usize) -> u8 {
     u8::from((4..=6).contains(&mode))
 }
 
