@@ -66,7 +66,9 @@
 //! Beside the chain: [`hydrostatics`] gives the linear restoring of every DOF
 //! ([`Hydrostatics`]), and [`waves`] the incident sea and its exciting force in the time domain,
 //! from the exciting forces the sweep computes with the added mass. [`passivity`] checks a
-//! network's passivity.
+//! network's passivity. A section's mean wave drift comes with every wave solve
+//! ([`bem::Drift`]: far field and pressure integration, fixed section), and [`motion`] gives a
+//! floating section's rigid motion in regular waves from its mass properties.
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
 //! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID, the archive) and
