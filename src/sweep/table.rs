@@ -195,6 +195,20 @@ impl SweepResult {
                 difference / largest
             )?;
         }
+        let energy = drifts
+            .iter()
+            .flat_map(|(_, d)| {
+                (0..d.cosines.len())
+                    .map(|h| {
+                        (d.reflection(h).norm_sqr() + d.transmission(h).norm_sqr() - 1.0).abs()
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .fold(0.0, f64::max);
+        writeln!(
+            out,
+            "# energy, |R|^2 + |T|^2 - 1 of the fixed section (max over kR of its magnitude): {energy:.2e}"
+        )?;
         self.write_notes(out)?;
         writeln!(out, "kR,j,heading,value")?;
         let scale: Vec<f64> = self
