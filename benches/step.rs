@@ -4,16 +4,21 @@
 //! the resources; target <= 2 x the calm step); and in calm water the branch-chain network of
 //! the same data (`CoupledMethod::Chains`), for the ratio in one run; and the calm step of the
 //! default network through the FMI 3.0 functions (fmi3SetFloat64, fmi3DoStep, fmi3GetFloat64).
+//! The baseline of the same run: the plain dense step of the default network, no FMI around it
+//! (`x+ = Phi x + Gamma0 u + Gamma1 u'`, `y = C x+ + D u` with dense matrices, 9 velocities
+//! copied in and 9 forces out); the FMU step's cost is quoted as a ratio to it.
 //! The same radiation force by direct convolution: `cargo bench -p fmu-pack --bench
 //! convolution`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use hydrofmu::discretize::discretize;
 use hydrofmu::fmi::*;
 use hydrofmu::fmu::description::{
-    FIRST_PER_HULL_REFERENCE, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_PERIOD,
+    DEFAULT_G, DEFAULT_RHO, FIRST_PER_HULL_REFERENCE, VR_WAVE_HEIGHT, VR_WAVE_KIND, VR_WAVE_PERIOD,
 };
 use hydrofmu::model::Resources;
 use hydrofmu::network::Network;
+use nalgebra::DVector;
 use std::ffi::{c_void, CString};
 
 mod common;
@@ -30,9 +35,51 @@ const CHAINS: &str = include_str!("../examples/networks/semicircle_9dof_chains.x
 const JONSWAP: i32 = 2;
 
 fn step(c: &mut Criterion) {
+    bench_plain_dense(c, NETWORK);
     bench_network(c, NETWORK, "", &["calm water", "JONSWAP, 64 components"]);
     bench_fmi3(c, NETWORK);
     bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
+}
+
+/// The plain dense step of the network at the FMU's default rho and g, with no FMI around
+/// it: the exact discrete update over h = 0.01 s with the input ramped over the step
+/// (`discretize` with first-order hold of the state space: dense `Phi`, `Gamma0`, `Gamma1`),
+/// `x+ = Phi x + Gamma0 u + Gamma1 u'`, then `y = C x+ + D u`, plus copying the 9 velocities
+/// in and the 9 forces out. `u'` is the master's rate, zero as in the FMU benches (the
+/// product is computed all the same).
+fn bench_plain_dense(c: &mut Criterion, text: &str) {
+    let network = Network::from_xml_str(text, "network.xml")
+        .unwrap()
+        .scaled(DEFAULT_RHO, DEFAULT_G);
+    let ss = network.state_space().unwrap();
+    let h = 0.01;
+    let step = discretize(&ss.a, &ss.b, h, true).unwrap();
+    let gamma1 = step.gamma1.clone().unwrap();
+    let (states, n) = (ss.a.nrows(), ss.b.ncols());
+    let (mut x, mut next) = (DVector::zeros(states), DVector::zeros(states));
+    let (mut u, rate, mut y) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
+    let (mut v, mut f) = (vec![0.0; n], vec![0.0; n]);
+    let mut k = 0u64;
+    let name = format!("plain dense step, {states} states, {n} inputs/outputs (baseline)");
+    c.bench_function(&name, |b| {
+        b.iter(|| {
+            let phase = (k % 1000) as f64 * 1e-3;
+            for (i, x) in v.iter_mut().enumerate() {
+                *x = phase + i as f64 * 0.1;
+            }
+            k += 1;
+            u.copy_from_slice(black_box(&v));
+            next.gemv(1.0, &step.phi, &x, 0.0);
+            next.gemv(1.0, &step.gamma0, &u, 1.0);
+            next.gemv(1.0, &gamma1, black_box(&rate), 1.0);
+            std::mem::swap(&mut x, &mut next);
+            y.gemv(1.0, &ss.c, &x, 0.0);
+            y.gemv(1.0, &ss.d, &u, 1.0);
+            f.copy_from_slice(y.as_slice());
+            black_box(&f);
+        })
+    });
+    assert!(x.iter().all(|x| x.is_finite()), "the plain step diverged");
 }
 
 /// A resources folder for `text` (tag: a distinct folder per caller); its GUID.
