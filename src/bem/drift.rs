@@ -233,16 +233,12 @@ fn quadratic_weights(s: [f64; 3], t: f64) -> [f64; 3] {
 
 /// The three body panels nearest each waterline point of an open contour and the point's arc
 /// length: the contour's first and last node when they lie on `y = 0`.
-fn waterlines(mesh: &Mesh, arc: &[f64]) -> Vec<([usize; 3], f64)> {
+fn waterlines(mesh: &Mesh, arc: &[f64], closed: bool) -> Vec<([usize; 3], f64)> {
     let n = mesh.body.len();
     if n < 3 {
         return Vec::new();
     }
     let on_surface = |y: f64| y.abs() <= 1e-9 * mesh.reference_half_beam.max(1e-300);
-    let closed = {
-        let (a, b) = (mesh.body[0].start, mesh.body[n - 1].end);
-        (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * mesh.reference_half_beam
-    };
     let mut out = Vec::new();
     if !closed && on_surface(mesh.body[0].start[1]) {
         out.push(([0, 1, 2], 0.0));
@@ -326,7 +322,7 @@ pub(super) fn drift(
         let (a, b) = (mesh.body[0].start, mesh.body[n - 1].end);
         (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * mesh.reference_half_beam
     };
-    let lines = waterlines(mesh, &arc);
+    let lines = waterlines(mesh, &arc, closed);
     // Generalized normals of the DOFs, then the horizontal force (n_x).
     let normal = |l: usize, j: usize| {
         if j < dofs {

@@ -99,13 +99,7 @@ impl SweepResult {
         out: &mut dyn Write,
         part: ExcitationPart,
     ) -> std::io::Result<()> {
-        self.write_header(out)?;
-        let exponents: Vec<String> = self
-            .length_exponents
-            .iter()
-            .map(|e| e.to_string())
-            .collect();
-        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        self.write_header_with_exponents(out)?;
         writeln!(
             out,
             "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude"
@@ -155,13 +149,7 @@ impl SweepResult {
     /// frequencies in ascending order, each with headings 0 and 180 and every DOF. Frequencies
     /// solved without the drift (oblique waves) are left out.
     pub fn write_drift_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        self.write_header(out)?;
-        let exponents: Vec<String> = self
-            .length_exponents
-            .iter()
-            .map(|e| e.to_string())
-            .collect();
-        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        self.write_header_with_exponents(out)?;
         writeln!(
             out,
             "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a"
@@ -230,6 +218,17 @@ impl SweepResult {
             }
         }
         Ok(())
+    }
+
+    /// [`Self::write_header`], then the DOFs' length exponents (excitation and drift tables).
+    fn write_header_with_exponents(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.write_header(out)?;
+        let exponents: Vec<String> = self
+            .length_exponents
+            .iter()
+            .map(|e| e.to_string())
+            .collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))
     }
 
     /// The lines every table starts with: hull, H/R, modes, convention, R, panels.
