@@ -22,6 +22,7 @@ use super::uri::resource_path;
 use crate::fmu::description::{MAX_OUTPUT_DERIVATIVE_ORDER, PARAMETERS};
 use crate::fmu::{DofUnit, Layout, Quantity};
 use crate::model::{Model, ModelState, Resources};
+use references::StepReferences;
 use std::collections::HashSet;
 use std::ffi::{CStr, CString};
 
@@ -33,6 +34,8 @@ pub struct Instance {
     phase: Phase,
     model: Model,
     layout: Layout,
+    /// The value references of the inputs and forces, resolved from `layout`.
+    step_references: StepReferences,
     standard: Standard,
     /// Addresses of the FMU states this instance issued and has not freed: the C layer
     /// dereferences no state pointer outside this set.
@@ -133,6 +136,7 @@ impl Instance {
             messages: Vec::new(),
             phase: Phase::Instantiated,
             model,
+            step_references: StepReferences::resolve(&layout),
             layout,
             standard: Standard::Fmi2,
             issued_states: HashSet::new(),
@@ -418,6 +422,9 @@ impl Instance {
     /// fmi2GetReal.
     pub fn get_real(&mut self, vr: &[fmi2ValueReference], values: &mut [f64]) -> Status {
         self.run(Function::GetReal, |inst| {
+            if inst.get_forces_directly(vr, values) {
+                return Ok(Status::Ok);
+            }
             same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
             for (r, out) in vr.iter().zip(values.iter_mut()) {
                 *out = inst.real_value(*r)?;
@@ -442,6 +449,9 @@ impl Instance {
     /// termination. All values are checked before any is applied.
     pub fn set_real(&mut self, vr: &[fmi2ValueReference], values: &[f64]) -> Status {
         self.run(Function::SetReal, |inst| {
+            if inst.set_inputs_directly(vr, values)? {
+                return Ok(Status::Ok);
+            }
             same_length(("vr[]", vr.len()), ("value[]", values.len()))?;
             let before_init = matches!(inst.phase, Phase::Instantiated | Phase::InitializationMode);
             let (mut rho, mut g) = (inst.model.state().rho, inst.model.state().g);
@@ -909,5 +919,6 @@ impl Instance {
 }
 
 mod fmi3;
+mod references;
 #[cfg(test)]
 mod tests;

@@ -96,6 +96,10 @@ impl Instance {
     /// fmi3GetFloat64: scalars, `time` and the arrays (row-major). No allocation.
     pub fn get_float64(&mut self, vr: &[u32], values: &mut [f64]) -> Status {
         self.run(Function::GetReal, |inst| {
+            // Forces are scalars, the same references as in FMI 2.0.
+            if inst.get_forces_directly(vr, values) {
+                return Ok(Status::Ok);
+            }
             let mut count = 0usize;
             for &r in vr {
                 count += match inst.reference(r)? {
@@ -126,6 +130,10 @@ impl Instance {
 
     /// fmi3SetFloat64: as fmi2SetReal; `time` and the arrays cannot be set.
     pub fn set_float64(&mut self, vr: &[u32], values: &[f64]) -> Status {
+        // Inputs are scalars, the same references as in FMI 2.0.
+        if self.step_references.all_inputs(vr) {
+            return self.set_real(vr, values);
+        }
         match self.scalars_only(vr, "parameters and inputs") {
             Ok(()) => self.set_real(vr, values),
             Err(message) => self.run(Function::SetReal, |_| Err(message)),
