@@ -4,12 +4,12 @@
 
 use crate::args::PackArgs;
 use crate::args::{HullSweepArgs, SweepArgs};
-use crate::body::{self, BodyFit};
+use crate::body::{self, FitOptions};
 use crate::packing::{PackError, PackSummary};
 use hydrofmu::database::import::{self, ImportParams};
 use hydrofmu::database::wamit::FrequencyColumn;
 use hydrofmu::database::Database;
-use hydrofmu::scene::Band;
+use hydrofmu::scene::{all_frequencies, whole_body, BodyScene, FittedBody};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -57,27 +57,31 @@ fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
     Ok(params)
 }
 
-/// Imports the database of `args`, restricted to `--dofs` when given.
-pub fn import(args: &HullSweepArgs) -> Result<(Database, Duration), String> {
+/// Imports the whole database of `args`, and the `--dofs` asked for (checked against its
+/// DOFs).
+fn import_whole(args: &HullSweepArgs) -> Result<(Database, Option<Vec<String>>, Duration), String> {
     let params = params(args)?;
     let start = Instant::now();
-    let mut database = import::import(Path::new(&args.hull), &params).map_err(|e| e.to_string())?;
-    if let Some(list) = &args.dofs {
-        let names: Vec<&str> = list.split(',').map(str::trim).collect();
-        for (k, name) in names.iter().enumerate() {
-            if !database.dof_names.iter().any(|d| d == name) || names[..k].contains(name) {
-                return Err(format!(
-                    "--dofs: '{name}' is not a DOF of {} or is named twice; its DOFs: {}",
-                    args.hull,
-                    database.dof_names.join(" ")
-                ));
-            }
-        }
+    let database = import::import(Path::new(&args.hull), &params).map_err(|e| e.to_string())?;
+    let elapsed = start.elapsed();
+    let dofs = body::dofs_arg(args.dofs.as_deref());
+    if let Some(names) = &dofs {
+        let list: Vec<&str> = names.iter().map(String::as_str).collect();
+        whole_body::dofs(&list, &args.hull, &database.dof_names).map_err(|e| e.to_string())?;
+    }
+    Ok((database, dofs, elapsed))
+}
+
+/// Imports the database of `args`, restricted to `--dofs` when given.
+pub fn import(args: &HullSweepArgs) -> Result<(Database, Duration), String> {
+    let (mut database, dofs, elapsed) = import_whole(args)?;
+    if let Some(names) = &dofs {
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         database = database
             .select_dofs(&names)
             .ok_or_else(|| "--dofs: a DOF is missing".to_string())?;
     }
-    Ok((database, start.elapsed()))
+    Ok((database, elapsed))
 }
 
 /// `fmu-pack sweep NAME.1`: the database's tables in the product's format and conventions.
@@ -87,17 +91,17 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     }
     let (database, elapsed) = import(&args.sweep)?;
     body::write_tables(&database, args)?;
-    crate::output::stderr_line(&summary(&database, elapsed));
+    crate::output::stderr_line(&summary(&database, &database.dof_names, elapsed));
     Ok(())
 }
 
-/// One line: what was imported.
-fn summary(database: &Database, elapsed: Duration) -> String {
+/// One line: what was imported, of the DOFs `dofs`.
+fn summary(database: &Database, dofs: &[String], elapsed: Duration) -> String {
     format!(
         "{}: {} DOFs ({}), {} frequencies {:.4} .. {:.4} rad/s ({} left out), {} headings, {:.3} s",
         database.name,
-        database.dof_names.len(),
-        database.dof_names.join(" "),
+        dofs.len(),
+        dofs.join(" "),
         database.omega.len(),
         database.omega.first().copied().unwrap_or(f64::NAN),
         database.omega.last().copied().unwrap_or(f64::NAN),
@@ -108,47 +112,41 @@ fn summary(database: &Database, elapsed: Duration) -> String {
 }
 
 /// Imports and fits (default band: every frequency of the file).
-pub fn fit(
-    args: &HullSweepArgs,
-    band: Option<&str>,
-    tolerance: Option<f64>,
-    order: Option<usize>,
-    max_step: Option<f64>,
-) -> Result<BodyFit, String> {
-    let (database, elapsed) = import(args)?;
-    let whole = Band::rad_per_second(
-        database.omega[0] * (1.0 - 1e-12),
-        database.omega[database.omega.len() - 1] * (1.0 + 1e-12),
+pub fn fit(args: &HullSweepArgs, options: &FitOptions) -> Result<FittedBody, String> {
+    let (database, dofs, elapsed) = import_whole(args)?;
+    let whole = all_frequencies(&database)
+        .ok_or_else(|| format!("{}: its frequencies give no band", args.hull))?;
+    let band = body::band_arg(options.band, whole)?;
+    whole_body::band(
+        band,
+        database.reference_length,
+        database.g,
+        options.max_step,
     )
-    .map_err(|_| format!("{}: its frequencies give no band", args.hull))?;
-    let band = body::band(band, whole, database.reference_length, database.g, max_step)?;
+    .map_err(|e| e.to_string())?;
     for warning in &database.warnings {
         crate::output::stderr_line(&format!("warning: {warning}"));
     }
-    let description = format!("database {}", summary(&database, elapsed));
-    // ULEN for WAMIT files: the fit is then the same at any length scale.
-    let length_unit = Some(database.reference_length);
-    body::fit(
-        database,
-        description,
-        String::new(),
+    let kept = dofs.clone().unwrap_or_else(|| database.dof_names.clone());
+    let description = format!("database {}", summary(&database, &kept, elapsed));
+    let scene = BodyScene {
+        dofs,
         band,
-        tolerance,
-        order,
-        elapsed,
-        length_unit,
-    )
-    .map_err(|e| format!("{}: {e}", args.hull))
+        tolerance: options.tolerance,
+        max_step: options.max_step,
+        form: options.form,
+        order: options.order,
+        // ULEN for WAMIT files: the fit is then the same at any length scale.
+        length_unit: Some(database.reference_length),
+        description,
+        acquisition_time: elapsed,
+        ..BodyScene::new(database)
+    };
+    scene.fit().map_err(|e| format!("{}: {e}", args.hull))
 }
 
 /// `fmu-pack pack NAME.1`: one FMU for the body.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
-    let fitted = fit(
-        &args.sweep,
-        args.band.as_deref(),
-        args.tol,
-        args.order,
-        args.max_step,
-    )?;
+    let fitted = fit(&args.sweep, &FitOptions::of_pack(args))?;
     body::pack(&fitted, args)
 }

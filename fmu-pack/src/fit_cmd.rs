@@ -31,7 +31,8 @@ pub struct FitArgs {
     /// Nyquist frequency pi / max-step.
     #[arg(long, value_name = "SECONDS")]
     pub max_step: Option<f64>,
-    /// Network form: series_chain, parallel_bank (one DOF), coupled.
+    /// Network form: series_chain, parallel_bank (one DOF), coupled (any number of DOFs;
+    /// the only form for several DOFs of a ship file or an imported database).
     #[arg(long)]
     pub form: Option<String>,
     /// Write the network file (XML) here.
@@ -84,52 +85,7 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         _ => None,
     };
     if let Some(imported) = whole_body {
-        let unsupported = [("--form", args.form.is_some())];
-        if let Some((flag, _)) = unsupported.iter().find(|(_, given)| *given) {
-            return Err(format!(
-                "{flag} is not yet available for ship files and imported databases"
-            ));
-        }
-        let fit = if imported {
-            crate::database_cmd::fit
-        } else {
-            crate::ship_cmd::fit
-        };
-        let fitted = fit(
-            &args.sweep,
-            args.band.as_deref(),
-            args.tolerance,
-            args.order,
-            args.max_step,
-        )?;
-        // The network and the figures together, or none (output::Outputs).
-        let mut outputs = crate::output::Outputs::new();
-        if let Some(path) = &args.network_out {
-            outputs.bytes(path, fitted.fit.network.to_xml_string().as_bytes())?;
-        }
-        if let Some(dir) = &args.plots {
-            let source = if imported { "database" } else { "strip theory" };
-            let figures = fit_plots(
-                &fitted.database.response(),
-                &fitted.fit,
-                source,
-                ("omega (rad/s)", &|omega| omega),
-                (&fitted.database.dof_units, hydrofmu::fmu::Extent::WholeBody),
-            );
-            stage_figures(&mut outputs, figures, dir)?;
-        }
-        outputs.commit()?;
-        if args.json {
-            let text = json_report(
-                &fitted.fit,
-                &fitted.database.dof_names,
-                fitted.times.0.as_secs_f64(),
-                fitted.times.1.as_secs_f64(),
-                &fitted.database.notes,
-            );
-            return crate::output::stdout(format!("{text}\n").as_bytes());
-        }
-        return crate::output::stdout(format!("{}\n", crate::body::fit_text(&fitted)).as_bytes());
+        return run_whole_body(args, imported);
     }
     let (hull, sweep_params) = args.sweep.resolve()?;
     let scene = scene(
@@ -156,6 +112,52 @@ pub fn run(args: &FitArgs) -> Result<(), String> {
         text(&built)
     };
     crate::output::stdout(report.as_bytes())
+}
+
+/// A ship file's or an imported database's fit (`imported`), reported: the fit in words
+/// and the scene report, or JSON.
+fn run_whole_body(args: &FitArgs, imported: bool) -> Result<(), String> {
+    let options = crate::body::FitOptions {
+        band: args.band.as_deref(),
+        tolerance: args.tolerance,
+        order: args.order,
+        max_step: args.max_step,
+        form: args.form.as_deref().map(parse_form).transpose()?,
+    };
+    let fitted = if imported {
+        crate::database_cmd::fit(&args.sweep, &options)
+    } else {
+        crate::ship_cmd::fit(&args.sweep, &options)
+    }?;
+    // The network and the figures together, or none (output::Outputs).
+    let mut outputs = crate::output::Outputs::new();
+    if let Some(path) = &args.network_out {
+        outputs.bytes(path, fitted.fit.network.to_xml_string().as_bytes())?;
+    }
+    if let Some(dir) = &args.plots {
+        let source = if imported { "database" } else { "strip theory" };
+        let figures = fit_plots(
+            &fitted.database.response(),
+            &fitted.fit,
+            source,
+            ("omega (rad/s)", &|omega| omega),
+            (&fitted.database.dof_units, hydrofmu::fmu::Extent::WholeBody),
+        );
+        stage_figures(&mut outputs, figures, dir)?;
+    }
+    outputs.commit()?;
+    let text = if args.json {
+        json_report(
+            &fitted.fit,
+            &fitted.database.dof_names,
+            fitted.times.0.as_secs_f64(),
+            fitted.times.1.as_secs_f64(),
+            &fitted.database.notes,
+        )
+    } else {
+        format!("{}\n\n{}", fitted.fit_text(), fitted.report)
+    };
+    crate::output::stdout(format!("{text}\n").as_bytes())
 }
 
 /// The report as JSON.

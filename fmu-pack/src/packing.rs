@@ -128,19 +128,7 @@ pub fn pack_network(
     target: &Target,
     fit: Option<&Fitted>,
 ) -> Result<PackSummary, PackError> {
-    let Target {
-        binary,
-        model_identifier,
-        output,
-        fmi,
-    } = *target;
-    if output.as_os_str() == "-" {
-        return Err(PackError(
-            "-o -: an archive is written to a file, not to standard output (which carries the \
-             summary); name a file"
-                .into(),
-        ));
-    }
+    refuse_standard_output(target.output)?;
     // A network packed from a file has no sweep: its FMU models calm water only.
     let body = match fit {
         Some(fitted) => {
@@ -148,14 +136,60 @@ pub fn pack_network(
         }
         None => body,
     };
-    let mut archive = Archive::new(body, network, model_identifier, fmu::read_binary(binary)?);
-    archive.keep_inf_mass = keep_inf_mass;
-    archive.fmi = fmi.into();
-    archive.scene = fit.map(|Fitted { built, scene }| SceneDocumentation {
+    let documentation = fit.map(|Fitted { built, scene }| SceneDocumentation {
         scene: scene.to_string(),
         fit: crate::fit_report::text(built),
         plots: crate::fit_report::plots(built),
     });
+    let mut summary = pack_documented(body, network, keep_inf_mass, target, documentation)?;
+    summary.fit = fit.map(|Fitted { built: b, .. }| {
+        format!(
+            "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
+            b.fit.aux_dofs,
+            100.0 * b.fit.max_relative_error,
+            100.0 * b.fit.tolerance,
+            if b.fit.tolerance_met { "met" } else { "NOT met" },
+            b.sweep_time.as_secs_f64(),
+            b.fit_time.as_secs_f64()
+        )
+    });
+    Ok(summary)
+}
+
+/// Refuses `-o -`: an archive is not written to standard output.
+fn refuse_standard_output(output: &Path) -> Result<(), PackError> {
+    if output.as_os_str() == "-" {
+        return Err(PackError(
+            "-o -: an archive is written to a file, not to standard output (which carries the \
+             summary); name a file"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Packs a network for a body into `target.output` with its scene's documentation (the
+/// archive's `documentation/scene.txt` and the sections of its index), when given; the
+/// archive and its OSP description written together, or neither. The summary's `fit` is
+/// left to the caller.
+pub fn pack_documented(
+    body: Body,
+    network: PackedNetwork,
+    keep_inf_mass: bool,
+    target: &Target,
+    documentation: Option<SceneDocumentation>,
+) -> Result<PackSummary, PackError> {
+    let Target {
+        binary,
+        model_identifier,
+        output,
+        fmi,
+    } = *target;
+    refuse_standard_output(output)?;
+    let mut archive = Archive::new(body, network, model_identifier, fmu::read_binary(binary)?);
+    archive.keep_inf_mass = keep_inf_mass;
+    archive.fmi = fmi.into();
+    archive.scene = documentation;
     let packed = archive.build()?;
     // The archive and the OSP description beside it are written together, or neither.
     let mut outputs = crate::output::Outputs::new();
@@ -176,17 +210,7 @@ pub fn pack_network(
         keep_inf_mass,
         osp,
         scene: packed.scene,
-        fit: fit.map(|Fitted { built: b, .. }| {
-            format!(
-                "{} auxiliary DOFs, largest error {:.2} % of sqrt(|A_ii A_jj|) (tolerance {:.2} %, {}), sweep {:.2} s, fit {:.2} s",
-                b.fit.aux_dofs,
-                100.0 * b.fit.max_relative_error,
-                100.0 * b.fit.tolerance,
-                if b.fit.tolerance_met { "met" } else { "NOT met" },
-                b.sweep_time.as_secs_f64(),
-                b.fit_time.as_secs_f64()
-            )
-        }),
+        fit: None,
     })
 }
 

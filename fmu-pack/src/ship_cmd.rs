@@ -3,14 +3,14 @@
 
 use crate::args::PackArgs;
 use crate::args::{parse_grid, HullSweepArgs, SweepArgs};
-use crate::body::{self, BodyFit};
+use crate::body::{self, FitOptions};
 use crate::output;
 use crate::packing::{PackError, PackSummary};
 use crate::progress::Progress;
 use hydrofmu::bem::IrregularFrequencies;
 use hydrofmu::database::Database;
 use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
-use hydrofmu::scene::Band;
+use hydrofmu::scene::{whole_body, Band, BodyScene, FittedBody};
 use hydrofmu::ship::{self, Ship, ShipSweepParams};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -57,39 +57,40 @@ fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
     Ok((ship, params))
 }
 
-/// The ship's sweep with a progress bar, restricted to the `--dofs` of `args` when given (the
-/// sections are solved whole either way).
+/// The `--dofs` of `args`, checked against the ship's DOFs (before its sweep).
+fn requested_dofs(ship: &Ship, args: &HullSweepArgs) -> Result<Option<Vec<String>>, String> {
+    let Some(names) = body::dofs_arg(args.dofs.as_deref()) else {
+        return Ok(None);
+    };
+    let list: Vec<&str> = names.iter().map(String::as_str).collect();
+    let available: Vec<String> = ship.dof_names().iter().map(|d| d.to_string()).collect();
+    whole_body::dofs(&list, &format!("ship '{}'", ship.name()), &available)
+        .map_err(|e| e.to_string())?;
+    Ok(Some(names))
+}
+
+/// The ship's sweep of every DOF with a progress bar.
 fn sweep(
     ship: &Ship,
     params: &ShipSweepParams,
     args: &HullSweepArgs,
 ) -> Result<(Database, Duration), String> {
-    let names: Option<Vec<&str>> = args
-        .dofs
-        .as_deref()
-        .map(|list| list.split(',').map(str::trim).collect());
-    if let Some(names) = &names {
-        let available = ship.dof_names();
-        for (k, name) in names.iter().enumerate() {
-            if !available.contains(name) || names[..k].contains(name) {
-                return Err(format!(
-                    "--dofs: '{name}' is not a DOF of ship '{}' or is named twice; its DOFs: {}",
-                    ship.name(),
-                    available.join(" ")
-                ));
-            }
-        }
-    }
     let progress = Progress::new("ship sweep");
     let start = Instant::now();
-    let mut result = ship::strip::run(ship, params, &|done, total| progress.update(done, total))
+    let result = ship::strip::run(ship, params, &|done, total| progress.update(done, total))
         .map_err(|e| format!("{}: {e}", args.hull))?;
-    if let Some(names) = &names {
-        result = result
-            .select_dofs(names)
-            .ok_or_else(|| format!("--dofs: not all of {} were swept", names.join(" ")))?;
-    }
     Ok((result, start.elapsed()))
+}
+
+/// `database` restricted to `dofs` when given.
+fn selected(database: Database, dofs: Option<&[String]>) -> Result<Database, String> {
+    let Some(names) = dofs else {
+        return Ok(database);
+    };
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    database
+        .select_dofs(&names)
+        .ok_or_else(|| format!("--dofs: not all of {} were swept", names.join(" ")))
 }
 
 /// The computed girder modes' dry properties, one line each (empty without `<girder_modes>`):
@@ -115,7 +116,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         return Err("--froude-krylov applies to a section, not to a ship file".to_string());
     }
     let (ship, params) = resolve(&args.sweep)?;
+    let dofs = requested_dofs(&ship, &args.sweep)?;
     let (result, elapsed) = sweep(&ship, &params, &args.sweep)?;
+    let result = selected(result, dofs.as_deref())?;
     body::write_tables(&result, args)?;
     for line in girder_text(&ship, &result.dof_names).lines() {
         output::stderr_line(line);
@@ -137,48 +140,46 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
 }
 
 /// Sweeps and fits a ship (the band as `--band` gives it, kR with R the largest section
-/// half-beam, or rad/s; default [`Band::default`]).
-pub fn fit(
-    args: &HullSweepArgs,
-    band: Option<&str>,
-    tolerance: Option<f64>,
-    order: Option<usize>,
-    max_step: Option<f64>,
-) -> Result<BodyFit, String> {
+/// half-beam, or rad/s; default [`Band::default`]). The band, tolerance, DOFs and form are
+/// checked before the sweep.
+pub fn fit(args: &HullSweepArgs, options: &FitOptions) -> Result<FittedBody, String> {
     let (ship, params) = resolve(args)?;
     let radius = ship
         .sections()
         .iter()
         .map(|h| h.reference_half_beam())
         .fold(0.0, f64::max);
-    let band = body::band(band, Band::default(), radius, DEFAULT_G, max_step)?;
-    if let Some(t) = tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(format!("--tol {t}: the tolerance must be finite and > 0"));
-        }
-    }
+    let band = body::band_arg(options.band, Band::default())?;
+    whole_body::band(band, radius, DEFAULT_G, options.max_step).map_err(|e| e.to_string())?;
+    whole_body::tolerance(options.tolerance).map_err(|e| e.to_string())?;
+    let dofs = requested_dofs(&ship, args)?;
+    let count = dofs.as_ref().map_or(ship.dof_names().len(), Vec::len);
+    whole_body::form(options.form, count).map_err(|e| e.to_string())?;
     let (swept, sweep_time) = sweep(&ship, &params, args)?;
     for warning in &swept.warnings {
         output::stderr_line(&format!("warning: {warning}"));
     }
-    let description = format!(
-        "ship {}: {} stations, {} distinct sections",
-        ship.name(),
-        ship.stations().len(),
-        ship.sections().len()
-    );
-    let appendix = girder_text(&ship, &swept.dof_names);
-    body::fit(
-        swept,
-        description,
-        appendix,
+    let kept = dofs.clone().unwrap_or_else(|| swept.dof_names.clone());
+    let scene = BodyScene {
+        dofs,
         band,
-        tolerance,
-        order,
-        sweep_time,
-        None,
-    )
-    .map_err(|e| format!("{}: {e}", args.hull))
+        band_length: radius,
+        g: DEFAULT_G,
+        tolerance: options.tolerance,
+        max_step: options.max_step,
+        form: options.form,
+        order: options.order,
+        description: format!(
+            "ship {}: {} stations, {} distinct sections",
+            ship.name(),
+            ship.stations().len(),
+            ship.sections().len()
+        ),
+        appendix: girder_text(&ship, &kept),
+        acquisition_time: sweep_time,
+        ..BodyScene::new(swept)
+    };
+    scene.fit().map_err(|e| format!("{}: {e}", args.hull))
 }
 
 /// `fmu-pack pack SHIP.xml`: one FMU for the whole ship.
@@ -188,12 +189,6 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
             "--network applies to a section; a ship's network is fitted to its sweep".into(),
         ));
     }
-    let fitted = fit(
-        &args.sweep,
-        args.band.as_deref(),
-        args.tol,
-        args.order,
-        args.max_step,
-    )?;
+    let fitted = fit(&args.sweep, &FitOptions::of_pack(args))?;
     body::pack(&fitted, args)
 }

@@ -250,12 +250,13 @@ impl PackedNetwork {
     }
 }
 
-/// The documentation of a section's scene: its report, the fit report and the fit's figures.
+/// The documentation of a scene: its report, the fit report and the fit's figures.
 #[derive(Clone, Debug, Default)]
 pub struct SceneDocumentation {
     /// The scene report (packed as [`SCENE_FILE`]).
     pub scene: String,
-    /// The fit report.
+    /// The fit report (its section of the index left out when empty: a whole body's scene
+    /// report holds its fit).
     pub fit: String,
     /// `(file name, SVG)` figures, packed under `documentation/plots/`.
     pub plots: Vec<(String, String)>,
@@ -429,11 +430,12 @@ impl Archive {
         let mut scene_entry = body.report.clone();
         if let Some(scene) = &self.scene {
             let mut section = format!(
-                "<h2>Scene: what this FMU models and leaves out</h2>\n<pre>{}</pre>\n\
-                 <h2>Fit report</h2>\n<pre>{}</pre>\n",
-                escape(&scene.scene),
-                escape(&scene.fit)
+                "<h2>Scene: what this FMU models and leaves out</h2>\n<pre>{}</pre>\n",
+                escape(&scene.scene)
             );
+            if !scene.fit.is_empty() {
+                section += &format!("<h2>Fit report</h2>\n<pre>{}</pre>\n", escape(&scene.fit));
+            }
             scene_entry = Some(scene.scene.clone());
             for (name, svg) in &scene.plots {
                 section += &format!("<p><img src=\"plots/{name}\" alt=\"{name}\"></p>\n");

@@ -20,9 +20,11 @@
 //! * Report: [`SceneReport`], the error in, below and above the band and what the left-out
 //!   DOFs would have coupled.
 
+mod body;
 mod report;
 pub mod whole_body;
 
+pub use body::{all_frequencies, BodyScene, FittedBody};
 pub use report::{LeftOut, RangeError, SceneReport};
 
 use crate::fmu::description::{DEFAULT_G, DEFAULT_RHO};
