@@ -25,7 +25,8 @@
 //! The types of every stage are re-exported here ([`Source`], [`Hull`], [`Ship`],
 //! [`Database`], [`FitParams`], [`FitReport`], [`Network`], [`Archive`], [`Body`]). A section
 //! may also go the short way through a [`Scene`] (hull, DOFs, band: sweep, response and fit in
-//! one). The [`fmu::archive`] module documentation holds a compiled example of the whole
+//! one), a ship or an imported database through a [`scene::BodyScene`] (its database, DOFs,
+//! band, tolerance and form: the checks, the fit and the scene report in one). The [`fmu::archive`] module documentation holds a compiled example of the whole
 //! chain: it packs the built-in semicircle and `tests/data/wamit/sphere.1` into FMUs.
 //!
 //! The first two stages, from a file name to the data a fit takes:

@@ -23,8 +23,8 @@
 //!
 //! ```
 //! use hydrofmu::database::import::{self, ImportParams};
-//! use hydrofmu::fmu::{Archive, Body, FmiVersion, PackedNetwork};
-//! use hydrofmu::identify::{self, FitParams};
+//! use hydrofmu::fmu::{Archive, Body, FmiVersion, PackedNetwork, SceneDocumentation};
+//! use hydrofmu::scene::BodyScene;
 //! use hydrofmu::{Hull, PanelParams, Scene, SweepParams};
 //! use std::path::Path;
 //!
@@ -54,13 +54,14 @@
 //!     .build()?
 //!     .write(&dir.join("Semicircle.fmu"))?;
 //!
-//! // A 3D database: WAMIT files, fitted over all their frequencies.
+//! // A 3D database: WAMIT files, fitted over all their frequencies by the whole-body scene,
+//! // whose report goes into documentation/scene.txt.
 //! let database = import::import(Path::new("tests/data/wamit/sphere.1"), &ImportParams::new())?;
-//! let band = (database.omega[0], database.omega[database.omega.len() - 1]);
-//! let params = FitParams { band, noise: Some(database.noise.clone()), ..FitParams::default() };
-//! let fit = identify::fit(&database.response(), &params)?;
-//! let body = Body::whole(&database, None)?;
-//! let mut archive = Archive::new(body, PackedNetwork::from_network(fit.network), "Sphere", binary);
+//! let fitted = BodyScene::new(database).fit()?;
+//! let body = Body::whole(&fitted.database, None)?;
+//! let network = PackedNetwork::from_network(fitted.fit.network.clone());
+//! let mut archive = Archive::new(body, network, "Sphere", binary);
+//! archive.scene = Some(SceneDocumentation { scene: fitted.scene_text(), ..Default::default() });
 //! archive.fmi = FmiVersion::V3;
 //! let packed = archive.build()?;
 //! let osp = packed.write(&dir.join("Sphere.fmu"))?;
