@@ -74,7 +74,7 @@ pub use instance::{Instance, Snapshot};
 pub use logging::{Category, Message};
 pub use phase::{allowed, Function, Phase, PhaseSet, Standard};
 pub use types::*;
-pub use uri::resource_path;
+pub use uri::{resource_path, ResourceLocationError, ResourceLocationProblem};
 
 #[cfg(test)]
 #[allow(unsafe_code)]
