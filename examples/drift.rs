@@ -115,6 +115,18 @@ fn main() {
          wetted contour and the waterline strip (every DOF). Conventions and equations: \
          `src/bem/drift.rs`.\n"
     );
+    let _ = writeln!(
+        doc,
+        "Any section's table: `fmu-pack sweep HULL -o coefficients.csv --drift drift.csv` writes \
+         `kR,j,heading,value` with `value = D_j / (rho g R^e_j)` for headings 0 and 180 and every \
+         DOF (the sway row by the far field, the others by pressure integration), after a header \
+         that states the largest difference of the two methods' sway force and the largest \
+         energy defect `|R|^2 + |T|^2 - 1` of the sweep. Elastic DOFs whose mode moves both \
+         waterline points outwards keep a drift in long waves (the mean hydrostatic pressure of \
+         the wave's rise and fall: `rho g a^2 n_j / (4 |n_x|)` at each waterline point, `n_j` the \
+         mode's normal displacement there); rigid DOFs' drift vanishes there. Ships and imported databases: \
+         not yet.\n"
+    );
 
     // 1. The semicircle: two methods, the energy identity, the limits.
     let semicircle = Hull::semicircle(1.0).expect("semicircle");

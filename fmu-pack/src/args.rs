@@ -146,6 +146,11 @@ pub struct SweepArgs {
     /// Also write the Froude-Krylov part of the exciting force alone, in the same format.
     #[arg(long = "froude-krylov", value_name = "FILE.csv")]
     pub froude_krylov: Option<PathBuf>,
+    /// Also write the mean wave drift of the fixed section (docs/DRIFT.md), `kR,j,heading,value`
+    /// with `D_j / (rho g R^e_j)`, `a^2 D_j` the mean force in DOF j of a regular wave of
+    /// amplitude a (sections only).
+    #[arg(long, value_name = "FILE.csv")]
+    pub drift: Option<PathBuf>,
     /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
     /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]

@@ -115,6 +115,12 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     if args.froude_krylov.is_some() {
         return Err("--froude-krylov applies to a section, not to a ship file".to_string());
     }
+    if args.drift.is_some() {
+        return Err(
+            "--drift: the mean wave drift is computed for a section; a ship's is not available yet"
+                .to_string(),
+        );
+    }
     let (ship, params) = resolve(&args.sweep)?;
     let dofs = requested_dofs(&ship, &args.sweep)?;
     let (result, elapsed) = sweep(&ship, &params, &args.sweep)?;

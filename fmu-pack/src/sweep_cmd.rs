@@ -52,6 +52,7 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         Some(&args.output),
         args.excitation.as_ref(),
         args.froude_krylov.as_ref(),
+        args.drift.as_ref(),
         args.hydrostatics.as_ref(),
         wamit.as_ref(),
         args.netcdf.as_ref(),
@@ -73,8 +74,11 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         hydrofmu::database::section::wamit_names(&hull)
             .map_err(|e| format!("{}: cannot export the section: {e}", hull.name()))?;
     }
-    // The diffraction problems only when a table asks for them.
-    params.excitation = args.excitation.is_some() || args.froude_krylov.is_some() || exports;
+    // The diffraction problems (and the drift, which needs them) only when a table asks.
+    params.excitation = args.excitation.is_some()
+        || args.froude_krylov.is_some()
+        || args.drift.is_some()
+        || exports;
     let scene = Scene {
         sweep: params,
         ..Scene::new(hull.clone())
@@ -106,6 +110,13 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
                 .map_err(|e| format!("cannot format the excitation table: {e}"))?;
             outputs.bytes(path, &text)?;
         }
+    }
+    if let Some(path) = &args.drift {
+        let mut text = Vec::new();
+        result
+            .write_drift_csv(&mut text)
+            .map_err(|e| format!("cannot format the drift table: {e}"))?;
+        outputs.bytes(path, &text)?;
     }
     let section_notes = if exports {
         stage_section_exports(&mut outputs, &hull, &result, args)?

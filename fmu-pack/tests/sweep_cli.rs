@@ -216,3 +216,63 @@ fn a_failing_output_leaves_the_earlier_outputs_as_they_were() {
         .all(|(_, bytes)| !bytes.starts_with(b"earlier")));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn sweep_writes_the_drift_table_of_a_section_and_refuses_it_for_other_sources() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-drift-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let drift = dir.join("drift.csv");
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        "semicircle",
+        "--panels",
+        "32",
+        "--kr",
+        "0.5:2:3",
+        "--dofs",
+        "sway,heave,roll",
+        "-o",
+        "-",
+        "--drift",
+        drift.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&drift).unwrap();
+    assert!(text.contains("\n# body: fixed; "), "{text}");
+    assert!(text.contains("\nkR,j,heading,value\n"), "{text}");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip_while(|l| *l != "kR,j,heading,value")
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    // 3 frequencies x 2 headings x 3 DOFs.
+    assert_eq!(rows.len(), 18);
+    // Headings 0 and 180 mirror each other on the symmetric section: sway changes sign,
+    // heave keeps it (the coarse mesh is symmetric too, so to rounding).
+    for row in rows.iter().filter(|r| r[2] == 0.0) {
+        let mirror = rows
+            .iter()
+            .find(|m| m[0] == row[0] && m[1] == row[1] && m[2] == 180.0)
+            .unwrap();
+        let sign = if row[1] == 2.0 { 1.0 } else { -1.0 };
+        assert!(
+            (row[3] - sign * mirror[3]).abs() <= 1e-9,
+            "{row:?} {mirror:?}"
+        );
+    }
+    // Waves towards +x push a fixed section towards +x.
+    assert!(rows
+        .iter()
+        .all(|r| r[1] != 1.0 || r[2] != 0.0 || r[3] > 0.0));
+    let _ = std::fs::remove_dir_all(&dir);
+    let barge = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/ships/barge.xml");
+    let (ok, _, err) = fmu_pack(&["sweep", barge, "-o", "-", "--drift", "-"]);
+    assert!(!ok && err.contains("--drift: the mean wave drift is computed for a section"));
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/wamit/sphere.1");
+    let (ok, _, err) = fmu_pack(&["sweep", sphere, "-o", "-", "--drift", "-"]);
+    assert!(
+        !ok && err.contains("NAME.8, NAME.9) is not read yet"),
+        "{err}"
+    );
+}
