@@ -25,6 +25,7 @@
 
 use crate::hull::{DofKind, Hull, RigidKind};
 use crate::hydrostatics::Hydrostatics;
+use crate::sweep::SweepResult;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 use std::fmt;
@@ -43,6 +44,30 @@ pub struct MassProperties {
     pub stiffness: DMatrix<f64>,
     /// External damping over the hull's rigid DOFs, SI per unit length; empty for none.
     pub damping: DMatrix<f64>,
+}
+
+impl fmt::Display for MassProperties {
+    /// One line: mass, centre of gravity, radius of gyration, and the external matrices'
+    /// nonzero entries (`i,j=value`, 1-based over the rigid DOFs).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [x, y] = self.centre_of_gravity;
+        write!(
+            f,
+            "mass {} kg/m, centre of gravity ({x}, {y}) m, radius of gyration {} m",
+            self.mass, self.radius_of_gyration
+        )?;
+        for (name, matrix) in [("stiffness", &self.stiffness), ("damping", &self.damping)] {
+            let entries: Vec<String> = (0..matrix.nrows())
+                .flat_map(|i| (0..matrix.ncols()).map(move |j| (i, j)))
+                .filter(|&(i, j)| matrix[(i, j)] != 0.0)
+                .map(|(i, j)| format!("{},{}={}", i + 1, j + 1, matrix[(i, j)]))
+                .collect();
+            if !entries.is_empty() {
+                write!(f, ", external {name} {}", entries.join(" "))?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Why a motion cannot be computed.
@@ -64,6 +89,13 @@ pub enum MotionError {
         /// Wave frequency, rad/s.
         omega: f64,
     },
+    /// A sweep of another hull (DOF count) or without its exciting forces.
+    OtherSweep {
+        /// The sweep's DOF count.
+        dofs: usize,
+        /// The hull's.
+        expected: usize,
+    },
 }
 
 impl fmt::Display for MotionError {
@@ -77,6 +109,11 @@ impl fmt::Display for MotionError {
                 f,
                 "the equation of motion is singular at omega = {omega} rad/s (a DOF without \
                  inertia, restoring or damping)"
+            ),
+            MotionError::OtherSweep { dofs, expected } => write!(
+                f,
+                "the sweep has {dofs} DOFs and the floating hull {expected}, or the sweep has no \
+                 exciting force: sweep this hull with its exciting forces"
             ),
         }
     }
@@ -97,6 +134,8 @@ pub struct Floating {
     restoring: DMatrix<f64>,
     /// External damping over the rigid DOFs, per rho.
     damping: DMatrix<f64>,
+    /// Gravity the restoring was made with (m/s^2).
+    g: f64,
 }
 
 fn check(field: &'static str, value: f64, lower: f64) -> Result<(), MotionError> {
@@ -176,6 +215,31 @@ impl Floating {
                     reason: "has an entry that is not finite".into(),
                 });
             }
+            if let Some(k) = (0..matrix.nrows()).find(|&k| matrix[(k, k)] < 0.0) {
+                return Err(MotionError::Field {
+                    field,
+                    reason: format!(
+                        "has the negative diagonal entry {} at DOF {}: a mooring stores or \
+                         takes energy, it does not supply it",
+                        matrix[(k, k)],
+                        k + 1
+                    ),
+                });
+            }
+        }
+        if !p.damping.is_empty() {
+            let symmetric = (&p.damping + p.damping.transpose()) * 0.5;
+            let scale = symmetric.amax();
+            let lowest = symmetric.symmetric_eigenvalues().min();
+            if lowest < -1e-12 * scale {
+                return Err(MotionError::Field {
+                    field: "damping",
+                    reason: format!(
+                        "has the negative eigenvalue {lowest:e} (its symmetric part): damping \
+                         that would feed energy into the motion"
+                    ),
+                });
+            }
         }
         let (m, [xg, yg], k) = (p.mass, p.centre_of_gravity, p.radius_of_gyration);
         let mut mass = DMatrix::zeros(n, n);
@@ -212,6 +276,7 @@ impl Floating {
             mass: mass / rho,
             restoring: (hydro + weight + external(&p.stiffness)) / rho,
             damping: external(&p.damping) / rho,
+            g,
             rigid,
         })
     }
@@ -249,6 +314,55 @@ impl Floating {
             out[dof] = solved[a];
         }
         Ok(out)
+    }
+}
+
+impl Floating {
+    /// The motion per unit wave amplitude at every frequency of `sweep` (a sweep of this
+    /// floating section's hull with its exciting forces; any scale R), in the gravity of
+    /// [`Floating::new`]: one
+    /// matrix per frequency, rows the hull's DOFs (held ones zero), columns the sweep's
+    /// headings; `xi_j` in m per m of amplitude for a translation, rad per m for a rotation.
+    ///
+    /// # Errors
+    /// A sweep of another DOF count or without exciting forces, a singular equation of motion.
+    pub fn sweep_raos(&self, sweep: &SweepResult) -> Result<Vec<DMatrix<Complex64>>, MotionError> {
+        let g = self.g;
+        let n = sweep.dof_names.len();
+        if n != self.dof_count || sweep.excitation.len() != sweep.kr.len() {
+            return Err(MotionError::OtherSweep {
+                dofs: n,
+                expected: self.dof_count,
+            });
+        }
+        let r = sweep.reference_half_beam;
+        let length = |j: usize| r.powi(i32::from(sweep.length_exponents[j]));
+        let area = std::f64::consts::PI * r * r;
+        sweep
+            .kr
+            .iter()
+            .zip(&sweep.added_mass)
+            .zip(&sweep.excitation)
+            .map(|((kr, added), forces)| {
+                let omega = (kr * g / r).sqrt();
+                let added_per_rho =
+                    DMatrix::from_fn(n, n, |i, j| added[(i, j)] * area * length(i) * length(j));
+                let columns = (0..forces.direct.ncols())
+                    .map(|h| {
+                        let excitation: Vec<Complex64> = (0..n)
+                            .map(|j| forces.direct[(j, h)] * r * length(j))
+                            .collect();
+                        self.rao(omega, g, &added_per_rho, &excitation)
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(DMatrix::from_columns(&columns))
+            })
+            .collect()
+    }
+
+    /// Whether DOF `j` of the hull moves (a rigid DOF) rather than being held.
+    pub fn moves(&self, j: usize) -> bool {
+        self.rigid.contains(&j)
     }
 }
 

@@ -25,9 +25,11 @@
 //! hydrostatic one, `X_j -> rho g a integral_C n_j ds`: the scattered wave vanishes with k.
 
 mod error;
+mod floating;
 mod table;
 
 pub use error::SweepError;
+pub use floating::FloatingTableError;
 pub use table::ExcitationPart;
 
 use crate::bem::{

@@ -221,7 +221,7 @@ impl SweepResult {
     }
 
     /// [`Self::write_header`], then the DOFs' length exponents (excitation and drift tables).
-    fn write_header_with_exponents(&self, out: &mut dyn Write) -> std::io::Result<()> {
+    pub(super) fn write_header_with_exponents(&self, out: &mut dyn Write) -> std::io::Result<()> {
         self.write_header(out)?;
         let exponents: Vec<String> = self
             .length_exponents
@@ -248,7 +248,7 @@ impl SweepResult {
     }
 
     /// Warnings and failed frequencies, as comment lines.
-    fn write_notes(&self, out: &mut dyn Write) -> std::io::Result<()> {
+    pub(super) fn write_notes(&self, out: &mut dyn Write) -> std::io::Result<()> {
         for warning in &self.warnings {
             writeln!(out, "# warning: {warning}")?;
         }

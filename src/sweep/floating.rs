@@ -1,0 +1,157 @@
+//! A floating section's tables: its motion per unit wave amplitude (RAO) and its mean drift,
+//! from the sweep of its hull and its mass properties ([`crate::motion`]).
+//!
+//! ```text
+//! RAO:   kR,j,heading,re,im   value = xi_j R^e_j / a      (rigid DOFs; elastic DOFs held)
+//! drift: kR,j,heading,value   value = D_j / (rho g R^e_j)  (rigid sway, by the far field)
+//! ```
+//!
+//! The floating drift in sway is Maruo's `c (1 + |R|^2 - |T|^2) / 4` with the reflected and
+//! transmitted waves of the moving section: the scattered wave plus the waves its motion
+//! radiates ([`crate::bem::Drift::horizontal_far_field_moving`]).
+
+use super::SweepResult;
+use crate::bem::HEADINGS;
+use crate::motion::{Floating, MotionError};
+use num_complex::Complex64;
+use std::io::Write;
+
+/// Why a floating section's table could not be written.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum FloatingTableError {
+    /// The motion could not be computed.
+    Motion(MotionError),
+    /// Writing failed.
+    Io(std::io::Error),
+}
+
+impl std::fmt::Display for FloatingTableError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FloatingTableError::Motion(e) => e.fmt(f),
+            FloatingTableError::Io(e) => write!(f, "cannot write the table: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for FloatingTableError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            FloatingTableError::Motion(e) => Some(e),
+            FloatingTableError::Io(e) => Some(e),
+        }
+    }
+}
+
+impl From<MotionError> for FloatingTableError {
+    fn from(e: MotionError) -> Self {
+        FloatingTableError::Motion(e)
+    }
+}
+
+impl From<std::io::Error> for FloatingTableError {
+    fn from(e: std::io::Error) -> Self {
+        FloatingTableError::Io(e)
+    }
+}
+
+impl SweepResult {
+    /// Writes the motion table of the section floating as `floating` (described by
+    /// `properties`, e.g. [`crate::motion::MassProperties`]'s line): the excitation table's
+    /// header, then `kR,j,heading,re,im` with `xi_j R^e_j / a` for every rigid DOF.
+    pub fn write_rao_csv(
+        &self,
+        floating: &Floating,
+        properties: &str,
+        out: &mut dyn Write,
+    ) -> Result<(), FloatingTableError> {
+        let raos = floating.sweep_raos(self)?;
+        self.write_header_with_exponents(out)?;
+        writeln!(
+            out,
+            "# values: xi_j R^e_j / a, the motion per unit wave amplitude (rigid DOFs; elastic DOFs held)"
+        )?;
+        writeln!(out, "# body: floating; {properties}")?;
+        self.write_notes(out)?;
+        writeln!(out, "kR,j,heading,re,im")?;
+        let scale = self.length_scales();
+        for (kr, rao) in self.kr.iter().zip(&raos) {
+            for (h, heading) in HEADINGS.iter().enumerate().take(rao.ncols()) {
+                for j in (0..rao.nrows()).filter(|&j| floating.moves(j)) {
+                    let value = rao[(j, h)] * scale[j];
+                    writeln!(
+                        out,
+                        "{kr:e},{},{heading},{:e},{:e}",
+                        j + 1,
+                        value.re + 0.0,
+                        value.im + 0.0
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the mean drift table of the section floating as `floating`: the drift table's
+    /// header, then `kR,j,heading,value` with `D_j / (rho g R^e_j)` for rigid sway (by the far
+    /// field with the waves the motion radiates). The other DOFs' floating drift needs the
+    /// pressure integration's motion terms, which are not computed: they are left out, and
+    /// the header says so.
+    pub fn write_floating_drift_csv(
+        &self,
+        floating: &Floating,
+        properties: &str,
+        out: &mut dyn Write,
+    ) -> Result<(), FloatingTableError> {
+        let raos = floating.sweep_raos(self)?;
+        self.write_header_with_exponents(out)?;
+        writeln!(
+            out,
+            "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a"
+        )?;
+        writeln!(
+            out,
+            "# body: floating; {properties}; rigid sway by the far field (Maruo) with the waves the \
+             motion radiates; the other DOFs are left out (their pressure integration needs the \
+             motion's terms, not computed)"
+        )?;
+        let mut rows = Vec::new();
+        let mut energy: f64 = 0.0;
+        for ((kr, forces), rao) in self.kr.iter().zip(&self.excitation).zip(&raos) {
+            let Some(drift) = &forces.drift else {
+                continue;
+            };
+            for h in 0..drift.cosines.len().min(rao.ncols()) {
+                let motion: Vec<Complex64> = rao.column(h).iter().copied().collect();
+                let (r, t) = drift.coefficients_moving(h, &motion);
+                energy = energy.max((r.norm_sqr() + t.norm_sqr() - 1.0).abs());
+                let value = drift.horizontal_far_field_moving(h, &motion);
+                for j in (0..drift.horizontal.len()).filter(|&j| drift.horizontal[j]) {
+                    rows.push((*kr, j, HEADINGS[h], value));
+                }
+            }
+        }
+        writeln!(
+            out,
+            "# energy, |R|^2 + |T|^2 - 1 of the floating section (max over kR of its magnitude; 0 without external damping, which absorbs): {energy:.2e}"
+        )?;
+        self.write_notes(out)?;
+        writeln!(out, "kR,j,heading,value")?;
+        for (kr, j, heading, value) in rows {
+            writeln!(out, "{kr:e},{},{heading},{:e}", j + 1, value + 0.0)?;
+        }
+        Ok(())
+    }
+
+    /// `R^e_j` of every DOF.
+    fn length_scales(&self) -> Vec<f64> {
+        self.length_exponents
+            .iter()
+            .map(|&e| self.reference_half_beam.powi(i32::from(e)))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests;
