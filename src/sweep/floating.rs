@@ -122,13 +122,14 @@ impl SweepResult {
             let Some(drift) = &forces.drift else {
                 continue;
             };
-            for h in 0..drift.cosines.len().min(rao.ncols()) {
+            let count = drift.cosines.len().min(rao.ncols());
+            for (h, heading) in HEADINGS.iter().enumerate().take(count) {
                 let motion: Vec<Complex64> = rao.column(h).iter().copied().collect();
                 let (r, t) = drift.coefficients_moving(h, &motion);
                 energy = energy.max((r.norm_sqr() + t.norm_sqr() - 1.0).abs());
                 let value = drift.horizontal_far_field_moving(h, &motion);
                 for j in (0..drift.horizontal.len()).filter(|&j| drift.horizontal[j]) {
-                    rows.push((*kr, j, HEADINGS[h], value));
+                    rows.push((*kr, j, *heading, value));
                 }
             }
         }
