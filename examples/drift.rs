@@ -127,6 +127,19 @@ fn main() {
          mode's normal displacement there); rigid DOFs' drift vanishes there. Ships and imported databases: \
          not yet.\n"
     );
+    let _ = writeln!(
+        doc,
+        "A floating section: `--mass KG_PER_M|displaced --cog X,Y --gyradius K` (and \
+         `--mooring DOF=K,..`, `--mooring-damping DOF=B,..` on the rigid DOFs, per unit length) \
+         make the section float (`src/motion.rs`: rigid DOFs, elastic DOFs held, at rho = 1025 \
+         kg/m^3 and g = 9.81 m/s^2); `--rao FILE` writes its motion per unit wave amplitude, \
+         `kR,j,heading,re,im` with `xi_j R^e_j / a`, and `--drift` then gives its mean drift in \
+         sway by the far field with the waves its motion radiates (the other DOFs' floating \
+         drift needs the pressure integration's motion terms: not computed yet, left out of the \
+         table). The tables' headers state the mass properties and the largest energy defect. \
+         Moorings with a negative diagonal entry, or damping whose symmetric part has a negative \
+         eigenvalue, are refused.\n"
+    );
 
     // 1. The semicircle: two methods, the energy identity, the limits.
     let semicircle = Hull::semicircle(1.0).expect("semicircle");

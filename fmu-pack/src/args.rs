@@ -151,6 +151,33 @@ pub struct SweepArgs {
     /// amplitude a (sections only).
     #[arg(long, value_name = "FILE.csv")]
     pub drift: Option<PathBuf>,
+    /// Also write the floating section's motion per unit wave amplitude (docs/DRIFT.md),
+    /// `kR,j,heading,re,im` with `xi_j R^e_j / a`, rigid DOFs (elastic DOFs held); needs
+    /// --mass, --cog and --gyradius, with which --drift gives the floating section's drift.
+    #[arg(long, value_name = "FILE.csv")]
+    pub rao: Option<PathBuf>,
+    /// The floating section's mass per unit length (kg/m), or `displaced`: the displaced
+    /// mass at rho = 1025 kg/m^3 (free floating).
+    #[arg(long, value_name = "KG_PER_M|displaced", allow_hyphen_values = true)]
+    pub mass: Option<String>,
+    /// Its centre of gravity `X,Y` (m; the hull's frame: y up, free surface at y = 0).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub cog: Option<String>,
+    /// Its radius of gyration about the centre of gravity (m).
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub gyradius: Option<f64>,
+    /// External (mooring) stiffness on rigid DOFs, per unit length: `DOF=VALUE,...` (N/m per m
+    /// for sway and heave, N.m/rad per m for roll).
+    #[arg(long, value_name = "DOF=K,..", allow_hyphen_values = true)]
+    pub mooring: Option<String>,
+    /// External (mooring) damping on rigid DOFs, per unit length: `DOF=VALUE,...` (N.s/m per
+    /// m, N.m.s/rad per m).
+    #[arg(
+        long = "mooring-damping",
+        value_name = "DOF=B,..",
+        allow_hyphen_values = true
+    )]
+    pub mooring_damping: Option<String>,
     /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
     /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
     #[arg(long, value_name = "FILE.csv")]
@@ -268,4 +295,16 @@ impl From<FmiVersion> for fmu::FmiVersion {
 pub struct InspectArgs {
     /// The archive to inspect.
     pub fmu: PathBuf,
+}
+
+impl SweepArgs {
+    /// Whether any option of a floating section is given.
+    pub fn floats(&self) -> bool {
+        self.rao.is_some()
+            || self.mass.is_some()
+            || self.cog.is_some()
+            || self.gyradius.is_some()
+            || self.mooring.is_some()
+            || self.mooring_damping.is_some()
+    }
 }

@@ -115,6 +115,13 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     if args.froude_krylov.is_some() {
         return Err("--froude-krylov applies to a section, not to a ship file".to_string());
     }
+    if args.floats() {
+        return Err(format!(
+            "--rao, --mass, --cog, --gyradius and --mooring make a section float; {} is not \
+             a section",
+            "a ship"
+        ));
+    }
     if args.drift.is_some() {
         return Err(
             "--drift: the mean wave drift is computed for a section; a ship's is not available yet"

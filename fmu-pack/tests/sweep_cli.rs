@@ -276,3 +276,93 @@ fn sweep_writes_the_drift_table_of_a_section_and_refuses_it_for_other_sources() 
         "{err}"
     );
 }
+
+#[test]
+fn a_floating_section_gets_its_motion_and_drift_tables() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-rao-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (rao, drift) = (dir.join("rao.csv"), dir.join("drift.csv"));
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        "semicircle",
+        "--panels",
+        "32",
+        "--kr",
+        "0.01:2:3",
+        "--dofs",
+        "sway,heave,roll",
+        "-o",
+        "-",
+        "--mass",
+        "displaced",
+        "--cog",
+        "0,-0.2",
+        "--gyradius",
+        "0.3",
+        "--mooring",
+        "sway=100",
+        "--rao",
+        rao.to_str().unwrap(),
+        "--drift",
+        drift.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rao = std::fs::read_to_string(&rao).unwrap();
+    assert!(
+        rao.contains("\n# body: floating; mass 1610.0662349647678 kg/m, centre of gravity (0, -0.2) m, radius of gyration 0.3 m, external stiffness 1,1=100; rho 1025 kg/m^3"),
+        "{rao}"
+    );
+    let rows = |text: &str, header: &str| -> Vec<Vec<f64>> {
+        text.lines()
+            .skip_while(|l| *l != header)
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let motion = rows(&rao, "kR,j,heading,re,im");
+    // 3 frequencies x 2 headings x 3 rigid DOFs; in long waves heave rides the elevation.
+    assert_eq!(motion.len(), 18);
+    let heave = &motion[1];
+    assert_eq!((heave[0], heave[1], heave[2]), (0.01, 2.0, 0.0));
+    assert!((heave[3].hypot(heave[4]) - 1.0).abs() < 1e-3, "{heave:?}");
+    let drift = std::fs::read_to_string(&drift).unwrap();
+    assert!(drift.contains("# body: floating; mass "), "{drift}");
+    // Rigid sway only: 3 frequencies x 2 headings.
+    assert_eq!(rows(&drift, "kR,j,heading,value").len(), 6);
+    let _ = std::fs::remove_dir_all(&dir);
+    for (extra, message) in [
+        (&["--rao", "-"][..], "needs --mass, --cog and --gyradius"),
+        (
+            &["--mass", "1e3", "--cog", "0", "--gyradius", "1"][..],
+            "--cog '0': expected X,Y in m",
+        ),
+        (
+            &[
+                "--mass",
+                "1e3",
+                "--cog",
+                "0,0",
+                "--gyradius",
+                "1",
+                "--mooring",
+                "cb1=3",
+            ][..],
+            "'cb1' is not a rigid DOF of the section (its rigid DOFs: sway heave roll)",
+        ),
+        (
+            &["--mass", "-1", "--cog", "0,0", "--gyradius", "1"][..],
+            "mass is -1: expected a finite mass > 0 kg/m",
+        ),
+    ] {
+        let mut args = vec!["sweep", "semicircle", "--kr", "1:1:1", "-o", "-"];
+        args.extend_from_slice(extra);
+        let (ok, _, err) = fmu_pack(&args);
+        assert!(!ok && err.contains(message), "{extra:?}: {err}");
+    }
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/wamit/sphere.1");
+    let (ok, _, err) = fmu_pack(&["sweep", sphere, "-o", "-", "--mass", "1"]);
+    assert!(
+        !ok && err.contains("an imported database is not a section"),
+        "{err}"
+    );
+}
