@@ -22,6 +22,13 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
             database.name
         ));
     }
+    if args.drift.is_some() && database.drift.is_empty() {
+        return Err(format!(
+            "--drift: {} has no mean drift (a WAMIT NAME.1 takes it from NAME.8 or NAME.9 \
+             beside it; see the notes for files left out)",
+            database.name
+        ));
+    }
     let mut outputs = output::Outputs::new();
     let mut text = Vec::new();
     database
@@ -33,6 +40,13 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
         database
             .write_excitation_csv(&mut text)
             .map_err(|e| format!("cannot format the excitation table: {e}"))?;
+        outputs.bytes(path, &text)?;
+    }
+    if let Some(path) = &args.drift {
+        let mut text = Vec::new();
+        database
+            .write_drift_csv(&mut text)
+            .map_err(|e| format!("cannot format the drift table: {e}"))?;
         outputs.bytes(path, &text)?;
     }
     if let Some(path) = &args.hydrostatics {
@@ -59,7 +73,8 @@ pub fn write_tables(database: &Database, args: &SweepArgs) -> Result<(), String>
     Ok(())
 }
 
-/// Stages `PREFIX.1`, `PREFIX.3` (when there is an exciting force) and `PREFIX.hst`.
+/// Stages `PREFIX.1`, `PREFIX.3` (when there is an exciting force), `PREFIX.9` (when there is
+/// a mean drift) and `PREFIX.hst`.
 pub fn stage_wamit(
     outputs: &mut output::Outputs,
     prefix: &std::path::Path,
@@ -73,6 +88,9 @@ pub fn stage_wamit(
     outputs.bytes(&path("1"), files.radiation.as_bytes())?;
     if let Some(text) = &files.excitation {
         outputs.bytes(&path("3"), text.as_bytes())?;
+    }
+    if let Some(text) = &files.drift {
+        outputs.bytes(&path("9"), text.as_bytes())?;
     }
     outputs.bytes(&path("hst"), files.hydrostatics.as_bytes())
 }

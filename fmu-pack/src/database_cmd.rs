@@ -96,13 +96,6 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
             "an imported database"
         ));
     }
-    if args.drift.is_some() {
-        return Err(
-            "--drift: the mean wave drift is computed for a section; an imported \
-                    database's (WAMIT NAME.8, NAME.9) is not read yet"
-                .into(),
-        );
-    }
     let (database, elapsed) = import(&args.sweep)?;
     body::write_tables(&database, args)?;
     crate::output::stderr_line(&summary(&database, &database.dof_names, elapsed));

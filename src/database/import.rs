@@ -143,6 +143,25 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
     let imported = wamit::read(&stem, texts, &wamit_params)?;
     let mut database = imported.database;
     database.notes.extend(cfg_note);
+    // The mean drift beside it: NAME.8 (momentum) and NAME.9 (pressure).
+    let drift_files: Vec<(String, String)> = ["8", "9"]
+        .iter()
+        .filter_map(|ext| companion(path, ext))
+        .map(|p| Ok((p.display().to_string(), read_bounded(&p)?)))
+        .collect::<Result<_, DatabaseError>>()?;
+    let drift_source = |ext: &str| {
+        drift_files
+            .iter()
+            .find(|(name, _)| Path::new(name).extension().is_some_and(|e| e == ext))
+            .map(|(name, text)| Source { name, text })
+    };
+    wamit::read_drift(
+        &mut database,
+        &imported.modes,
+        drift_source("8"),
+        drift_source("9"),
+        &wamit_params,
+    )?;
     if !imported.has_excitation {
         database.warnings.push(format!(
             "no {} beside {}: no exciting force (the FMU's wave.kind must stay 0)",
@@ -218,6 +237,7 @@ pub fn finish(
         super::retain_flagged(&mut database.added_mass, &keep);
         super::retain_flagged(&mut database.excitation, &keep);
         super::retain_flagged(&mut database.froude_krylov, &keep);
+        super::retain_flagged(&mut database.drift, &keep);
         super::retain_flagged(&mut database.omega, &keep);
         super::retain_flagged(&mut gaps, &keep);
     }

@@ -74,6 +74,12 @@ pub struct Database {
     pub noise: DMatrix<f64>,
     /// Body panels of each distinct section (finest level); empty for an imported database.
     pub body_panels: Vec<usize>,
+    /// Mean wave drift per unit wave amplitude squared at each frequency (`a^2 D_j` the mean
+    /// force in DOF j of a regular wave of amplitude a; N/m^2, N m/m^2), one column per
+    /// [`Database::drift_headings`]. Empty when the source gives none.
+    pub drift: Vec<DMatrix<f64>>,
+    /// The headings of [`Database::drift`]'s columns, degrees.
+    pub drift_headings: Vec<f64>,
 }
 
 /// Most wave headings of one database (the FMU's excitation table's limit).
@@ -117,6 +123,8 @@ impl Database {
             Some("the long-wave exciting force")
         } else if !self.stiffness_hydrostatic.iter().all(|x| x.is_finite()) {
             Some("the hydrostatic restoring")
+        } else if !self.drift.iter().all(|m| m.iter().all(|x| x.is_finite())) {
+            Some("the mean drift")
         } else {
             None
         }
@@ -161,6 +169,11 @@ impl Database {
                 self.stiffness_hydrostatic[(index[i], index[j])]
             }),
             noise: DMatrix::from_fn(n, n, |i, j| self.noise[(index[i], index[j])]),
+            drift: self
+                .drift
+                .iter()
+                .map(|m| DMatrix::from_fn(n, m.ncols(), |i, h| m[(index[i], h)]))
+                .collect(),
             dof_units: index.iter().map(|&i| self.dof_units[i].clone()).collect(),
             ..self.clone()
         })
@@ -277,6 +290,32 @@ impl Database {
                         number(*heading),
                         number(z.re),
                         number(z.im)
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The mean drift as CSV: the header, then `omega,j,heading,value` with `value = D_j` in
+    /// SI (`a^2 D_j` the mean force of a regular wave of amplitude a; N/m^2, N m/m^2).
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_drift_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.header(out)?;
+        writeln!(out, "omega,j,heading,value")?;
+        let number = |x: f64| format_number(x, Notation::Scientific);
+        for (omega, d) in self.omega.iter().zip(&self.drift) {
+            for j in 0..self.dof_names.len() {
+                for (h, heading) in self.drift_headings.iter().enumerate() {
+                    writeln!(
+                        out,
+                        "{},{},{},{}",
+                        number(*omega),
+                        j + 1,
+                        number(*heading),
+                        number(d[(j, h)])
                     )?;
                 }
             }

@@ -249,7 +249,24 @@ impl SectionDatabase {
             notes,
             noise: DMatrix::zeros(0, 0),
             body_panels: vec![sweep.panel_counts.0],
+            drift: Vec::new(),
+            drift_headings: Vec::new(),
         };
+        // The fixed section's mean drift, when every frequency has it (headings 0 and 180).
+        let drifts: Option<Vec<DMatrix<f64>>> = sweep
+            .excitation
+            .iter()
+            .map(|w| {
+                let d = w.drift.as_ref()?.mean_drift();
+                (d.ncols() == columns.len()).then(|| {
+                    DMatrix::from_fn(n, columns.len(), |j, c| d[(j, columns[c].1)] * rho * g)
+                })
+            })
+            .collect();
+        if let Some(drift) = drifts.filter(|d| !d.is_empty()) {
+            database.drift = drift;
+            database.drift_headings = database.headings.clone();
+        }
         let gaps = super::import::symmetrize(&mut database);
         database.noise = super::import::largest_gap(&gaps, database.dof_names.len());
         if let Some(what) = database.first_non_finite() {

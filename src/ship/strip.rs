@@ -525,6 +525,8 @@ pub fn run(
         notes: Vec::new(),
         noise: DMatrix::zeros(n, n),
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
+        drift: Vec::new(),
+        drift_headings: Vec::new(),
     };
     let count = params.omega.len();
     // The strip integrals of one frequency (`Err`: why there are none).

@@ -626,6 +626,8 @@ fn convert(
         notes,
         noise: DMatrix::zeros(n, n),
         body_panels: Vec::new(),
+        drift: Vec::new(),
+        drift_headings: Vec::new(),
     };
     Ok(ImportedCapytaine {
         database,

@@ -28,9 +28,11 @@
 //! truncated file), a `.3` row whose modulus and phase disagree with its real and imaginary
 //! parts, and every size beyond the limits below, before allocating.
 
+mod drift;
 mod rows;
 mod writer;
 
+pub use drift::read_drift;
 pub use writer::{write, WamitFiles};
 
 use super::{Database, DatabaseError};
@@ -512,6 +514,8 @@ pub fn read(
         notes,
         noise: DMatrix::zeros(n, n),
         body_panels: Vec::new(),
+        drift: Vec::new(),
+        drift_headings: Vec::new(),
     };
     if let Some(what) = database.first_non_finite() {
         return Err(DatabaseError::file(
@@ -525,6 +529,7 @@ pub fn read(
         added_mass_zero,
         has_excitation: texts.excitation.is_some(),
         has_hydrostatics: texts.hydrostatics.is_some(),
+        modes,
     })
 }
 
@@ -541,6 +546,8 @@ pub struct ImportedWamit {
     pub has_excitation: bool,
     /// Whether a `.hst` file was read.
     pub has_hydrostatics: bool,
+    /// The WAMIT mode index of each DOF, in order.
+    pub modes: Vec<usize>,
 }
 
 fn read_hydrostatics(

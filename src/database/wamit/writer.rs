@@ -1,4 +1,5 @@
-//! Writing a [`Database`] as WAMIT files (`.1`, `.3`, `.hst`; the inverse of [`super::read`]).
+//! Writing a [`Database`] as WAMIT files (`.1`, `.3`, `.9`, `.hst`; the inverse of
+//! [`super::read`] and [`super::read_drift`]).
 
 use super::{mode_indices, Database};
 
@@ -9,13 +10,16 @@ pub struct WamitFiles {
     pub radiation: String,
     /// `NAME.3`; `None` when the database has no exciting force.
     pub excitation: Option<String>,
+    /// `NAME.9`, the mean drift of one wave direction (`BETA1 = BETA2`); `None` when the
+    /// database has none.
+    pub drift: Option<String>,
     /// `NAME.hst`.
     pub hydrostatics: String,
 }
 
 /// Writes `database` as WAMIT files (the inverse of [`super::read`] with ULEN = 1 m and the
 /// database's rho and g): `Abar = A / rho`, `Bbar = B / (rho omega) = -Im A~ / rho`,
-/// `Xbar = X / (rho g)`, `Cbar = C / (rho g)`, 10 significant digits. One header line names
+/// `Xbar = X / (rho g)`, `Dbar = D / (rho g)`, `Cbar = C / (rho g)`, 10 significant digits. One header line names
 /// the modes (`modes: 3=heave 5=pitch 7=vb1`), so that [`super::read`] gives the names back; other
 /// readers skip it (or read the files without it: WAMIT writes one with NUMHDR = 1).
 pub fn write(database: &Database) -> WamitFiles {
@@ -88,6 +92,28 @@ pub fn write(database: &Database) -> WamitFiles {
         }
         text
     });
+    let drift = (!database.drift.is_empty()).then(|| {
+        let mut text = header("mean drift");
+        for &k in &order {
+            let period = 2.0 * std::f64::consts::PI / database.omega[k];
+            for (h, heading) in database.drift_headings.iter().enumerate() {
+                for (i, mode) in index.iter().enumerate() {
+                    let d = database.drift[k][(i, h)] / (rho * g);
+                    text.push_str(&format!(
+                        "{} {} {} {mode} {} {} {} {}\n",
+                        number(period),
+                        number(*heading),
+                        number(*heading),
+                        number(d.abs()),
+                        number(if d < 0.0 { 180.0 } else { 0.0 }),
+                        number(d),
+                        number(0.0)
+                    ));
+                }
+            }
+        }
+        text
+    });
     let mut hydrostatics = header("hydrostatic restoring");
     for i in 0..n {
         for j in 0..n {
@@ -102,6 +128,7 @@ pub fn write(database: &Database) -> WamitFiles {
     WamitFiles {
         radiation,
         excitation,
+        drift,
         hydrostatics,
     }
 }
