@@ -256,6 +256,7 @@ const MIN_OFFSETS: Minimum = all_cases_and(60); // 83
 const MIN_RESTORING: Minimum = all_cases_and(140); // 192
 /// The three WAMIT files: radiation (65 accepted), excitation (38), hydrostatics (379).
 const MIN_WAMIT: [Minimum; 3] = [all_cases_and(48), all_cases_and(28), all_cases_and(280)];
+const MIN_WAMIT_DRIFT: Minimum = all_cases_and(28); // 38
 
 fn read(path: &str) -> String {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -531,4 +532,64 @@ fn fuzz_wamit_files() {
             },
         );
     }
+}
+
+/// A WAMIT mean drift file (`.9`) beside the sphere's: whatever is accepted gives a drift on
+/// the database's frequencies, of its DOFs and the file's headings, finite.
+#[test]
+fn fuzz_wamit_drift_files() {
+    use hydrofmu::database::wamit::{self, Source, WamitParams, WamitTexts};
+    let radiation = read("tests/data/wamit/sphere.1");
+    let texts = WamitTexts {
+        radiation: Source {
+            name: "f.1",
+            text: &radiation,
+        },
+        excitation: None,
+        hydrostatics: None,
+    };
+    let imported = wamit::read("f", texts, &WamitParams::default()).unwrap();
+    // The seed: every mode at every frequency, headings 0 and 90.
+    let mut seed = String::from(" mean drift\n");
+    for (k, omega) in imported.database.omega.iter().enumerate() {
+        for beta in [0.0, 90.0] {
+            for &mode in &imported.modes {
+                let d = 0.1 * (k + mode) as f64 - 0.3;
+                seed.push_str(&format!(
+                    "{:.9E} {beta} {beta} {mode} {:.9E} {} {:.9E} 0.0\n",
+                    2.0 * std::f64::consts::PI / omega,
+                    d.abs(),
+                    if d < 0.0 { 180 } else { 0 },
+                    d
+                ));
+            }
+        }
+    }
+    fuzz("wamit-drift", &[seed], 1, MIN_WAMIT_DRIFT, |text| {
+        let mut database = imported.database.clone();
+        let source = Source { name: "f.9", text };
+        if wamit::read_drift(
+            &mut database,
+            &imported.modes,
+            None,
+            Some(source),
+            &WamitParams::default(),
+        )
+        .is_err()
+        {
+            return Ok(false);
+        }
+        if database.drift.is_empty() {
+            return Ok(false);
+        }
+        let (n, h) = (database.dof_names.len(), database.drift_headings.len());
+        let consistent = database.drift.len() == database.omega.len()
+            && database.drift.iter().all(|d| d.shape() == (n, h))
+            && h >= 1
+            && h <= hydrofmu::database::MAX_HEADINGS;
+        if !consistent || database.first_non_finite().is_some() {
+            return Err("accepted an inconsistent or non-finite drift".into());
+        }
+        Ok(true)
+    });
 }
