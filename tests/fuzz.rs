@@ -585,8 +585,7 @@ fn fuzz_wamit_drift_files() {
         let (n, h) = (database.dof_names.len(), database.drift_headings.len());
         let consistent = database.drift.len() == database.omega.len()
             && database.drift.iter().all(|d| d.shape() == (n, h))
-            && h >= 1
-            && h <= hydrofmu::database::MAX_HEADINGS;
+            && (1..=hydrofmu::database::MAX_HEADINGS).contains(&h);
         if !consistent || database.first_non_finite().is_some() {
             return Err("accepted an inconsistent or non-finite drift".into());
         }
