@@ -221,6 +221,51 @@ impl Database {
         )
     }
 
+    /// The mean drift as the FMU's drift table (`crate::waves::DriftTable`): the excitation
+    /// table's header, then `kR,j,heading,value` with `kR = omega^2 R / g` and
+    /// `value = D_j / (rho g R^e_j)`, R = [`Database::reference_length`]; nothing when the
+    /// database has no drift.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write_drift_table(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        let r = self.reference_length;
+        writeln!(out, "# hull: {}", self.name)?;
+        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
+        writeln!(out, "# convention: exp(+i omega t)")?;
+        writeln!(out, "# R: {r} m")?;
+        let exponents: Vec<String> = self
+            .dof_units
+            .iter()
+            .map(|u| u.length_exponent.to_string())
+            .collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(
+            out,
+            "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a; whole body, {}",
+            self.source
+        )?;
+        writeln!(out, "kR,j,heading,value")?;
+        let number = |x: f64| format_number(x, Notation::Scientific);
+        for (omega, drift) in self.omega.iter().zip(&self.drift) {
+            let kr = crate::units::kr_from_omega(*omega, r, self.g);
+            for (h, heading) in self.drift_headings.iter().enumerate() {
+                for (j, unit) in self.dof_units.iter().enumerate() {
+                    let scale = self.rho * self.g * r.powi(i32::from(unit.length_exponent));
+                    writeln!(
+                        out,
+                        "{},{},{},{}",
+                        number(kr),
+                        j + 1,
+                        number(*heading),
+                        number(drift[(j, h)] / scale)
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {
         writeln!(out, "# hull: {}", self.name)?;
         writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
