@@ -27,10 +27,12 @@
 //! Where things are: `table.rs` the excitation table and its interpolation, `spectrum.rs` the
 //! JONSWAP spectrum and its discretization, `sea.rs` the realization and its evaluation.
 
+mod drift_table;
 mod sea;
 mod spectrum;
 mod table;
 
+pub use drift_table::DriftTable;
 pub use sea::{Sea, SeaScratch};
 #[cfg(test)]
 use spectrum::jonswap;
@@ -283,5 +285,7 @@ fn heading_direction(heading: f64) -> Result<f64, WaveError> {
     ))
 }
 
+#[cfg(test)]
+mod drift_tests;
 #[cfg(test)]
 mod tests;
