@@ -21,6 +21,46 @@
 use super::table::Grid;
 use super::WaveError;
 
+/// The drift force the FMU adds (`wave.drift`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DriftMode {
+    /// No drift force (code 0, the default).
+    #[default]
+    Off,
+    /// The mean drift `r^2 sum_n a_n^2 D_j(omega_n)` (code 1).
+    Mean,
+    /// The slow drift by Newman's approximation (code 2): `r^2 Re[P_j conj(Q)]`.
+    Newman,
+}
+
+impl DriftMode {
+    /// The mode with FMU code 0 (off), 1 (mean) or 2 (slow drift by Newman).
+    ///
+    /// # Errors
+    /// Any other code.
+    pub fn from_code(code: i32) -> Result<DriftMode, WaveError> {
+        match code {
+            0 => Ok(DriftMode::Off),
+            1 => Ok(DriftMode::Mean),
+            2 => Ok(DriftMode::Newman),
+            _ => Err(WaveError::parameter(
+                "wave.drift",
+                code,
+                "unknown mode: must be 0 (none), 1 (mean drift) or 2 (slow drift, Newman)",
+            )),
+        }
+    }
+
+    /// The FMU code: 0, 1 or 2.
+    pub fn code(self) -> i32 {
+        match self {
+            DriftMode::Off => 0,
+            DriftMode::Mean => 1,
+            DriftMode::Newman => 2,
+        }
+    }
+}
+
 const COLUMNS: &str = "kR,j,heading,value";
 /// Relative slack on the band's upper end (rounding of `kR = omega^2 R / g`).
 const BAND_SLACK: f64 = 1e-12;
