@@ -198,6 +198,8 @@ pub struct WaveParams {
     pub components: usize,
     /// Ramp duration from the start time (s, >= 0; 0: no ramp). Default 0.
     pub ramp: f64,
+    /// The drift force (`wave.drift`, only with a drift table). Default off.
+    pub drift: DriftMode,
 }
 
 impl Default for WaveParams {
@@ -211,6 +213,7 @@ impl Default for WaveParams {
             seed: 1,
             components: DEFAULT_COMPONENTS,
             ramp: 0.0,
+            drift: DriftMode::Off,
         }
     }
 }
