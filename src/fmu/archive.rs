@@ -648,4 +648,6 @@ Conventions: {axes}; force = force on the hull by the water.</p>
 }
 
 #[cfg(test)]
+mod drift_tests;
+#[cfg(test)]
 mod tests;

@@ -40,6 +40,8 @@
 //! calculated parameters overflow. A state replaces the current one only if it meets the
 //! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
+#[cfg(test)]
+mod drift_tests;
 mod outputs;
 mod snapshot;
 mod stepper;

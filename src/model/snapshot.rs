@@ -23,6 +23,12 @@ const MAGIC: &[u8; 8] = b"HYDROFMU";
 /// 3: the stop time after the start time.
 const FORMAT_VERSION: u32 = 3;
 
+/// The state bytes' checksum (FNV-1a 64).
+#[cfg(test)]
+pub(super) fn checksum(bytes: &[u8]) -> u64 {
+    fnv1a(bytes)
+}
+
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf29ce484222325u64, |h, b| {
         (h ^ u64::from(*b)).wrapping_mul(0x100000001b3)
