@@ -69,9 +69,8 @@ struct SeaDrift {
     active: Vec<usize>,
     /// Per active DOF, `sum_n a_n^2 d_nj`.
     mean: Vec<f64>,
-    /// Per active DOF, `a_n d_nj e^{i eps_n}`: `[active * padded + n]`.
-    newman_re: Vec<f64>,
-    newman_im: Vec<f64>,
+    /// Per active DOF, `d_nj`: `[active * padded + n]` (zero in the padding).
+    coefficient: Vec<f64>,
 }
 
 impl Sea {
@@ -228,8 +227,7 @@ impl Sea {
             mode,
             dofs,
             mean: vec![0.0; active.len()],
-            newman_re: vec![0.0; active.len() * padded],
-            newman_im: vec![0.0; active.len() * padded],
+            coefficient: vec![0.0; active.len() * padded],
             active,
         };
         for n in 0..self.count {
@@ -249,8 +247,7 @@ impl Sea {
                 let value = table.interpolate(j, heading, kr).unwrap_or(f64::NAN);
                 let d = value * table.force_scale(j, rho, g).unwrap_or(f64::NAN);
                 drift.mean[a] += amplitude * amplitude * d;
-                drift.newman_re[a * padded + n] = self.elevation_re[n] * d;
-                drift.newman_im[a * padded + n] = self.elevation_im[n] * d;
+                drift.coefficient[a * padded + n] = d;
             }
         }
         self.drift = Some(drift);
@@ -297,21 +294,29 @@ impl Sea {
                 if scratch.z_re.len() != self.padded {
                     *scratch = self.scratch();
                 }
-                scratch.advance(&self.omega, self.omega_max, time);
-                let (z_re, z_im) = (&scratch.z_re, &scratch.z_im);
-                let (q_re, q_im) = dot_complex(&self.elevation_re, &self.elevation_im, z_re, z_im);
+                // The phasors the exciting force used at this time, when it came first.
+                if scratch.reached != time {
+                    scratch.advance(&self.omega, self.omega_max, time);
+                }
+                // F_j = Re[P_j conj Q] = sum_n d_nj u_n, u_n = Re[w_n conj Q], w_n = e_n z_n.
+                let weights = &mut scratch.drift_weight;
+                let (q_re, q_im) = elevation_terms(
+                    &self.elevation_re,
+                    &self.elevation_im,
+                    &scratch.z_re,
+                    &scratch.z_im,
+                    weights,
+                );
+                let (w_re, w_im) = weights.split_at_mut(self.padded);
+                for (re, im) in w_re.iter_mut().zip(w_im.iter()) {
+                    *re = *re * q_re + im * q_im;
+                }
                 for (a, &j) in drift.active.iter().enumerate() {
                     let Some(force) = forces.get_mut(j) else {
                         continue;
                     };
                     let range = a * self.padded..(a + 1) * self.padded;
-                    let (p_re, p_im) = dot_complex(
-                        &drift.newman_re[range.clone()],
-                        &drift.newman_im[range],
-                        z_re,
-                        z_im,
-                    );
-                    *force = ramp2 * (p_re * q_re + p_im * q_im);
+                    *force = ramp2 * dot_real(&drift.coefficient[range], w_re);
                 }
             }
         }
@@ -345,8 +350,8 @@ impl Sea {
                 DriftMode::Newman => {
                     let (mut p, mut p_rate) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
                     for (n, z) in phasors.iter().enumerate() {
-                        let slot = a * self.padded + n;
-                        let term = Complex64::new(drift.newman_re[slot], drift.newman_im[slot]) * z;
+                        let e = Complex64::new(self.elevation_re[n], self.elevation_im[n]);
+                        let term = e * z * drift.coefficient[a * self.padded + n];
                         p += term;
                         p_rate += Complex64::i() * self.omega[n] * term;
                     }
@@ -599,24 +604,47 @@ fn dot(c_re: &[f64], c_im: &[f64], z_re: &[f64], z_im: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
-/// `sum_n c_n z_n` (complex) in `LANES` independent partial sums.
-fn dot_complex(c_re: &[f64], c_im: &[f64], z_re: &[f64], z_im: &[f64]) -> (f64, f64) {
+/// The terms `w_n = c_n z_n` into `out` (real parts, then imaginary parts; `out.len()` twice
+/// the others') and their sum, in `LANES` independent partial sums.
+fn elevation_terms(
+    c_re: &[f64],
+    c_im: &[f64],
+    z_re: &[f64],
+    z_im: &[f64],
+    out: &mut [f64],
+) -> (f64, f64) {
+    let (w_re, w_im) = out.split_at_mut(c_re.len());
     let (mut re, mut im) = ([0.0; LANES], [0.0; LANES]);
-    for (((cr, ci), zr), zi) in c_re
+    for (((((cr, ci), zr), zi), wr), wi) in c_re
         .chunks_exact(LANES)
         .zip(c_im.chunks_exact(LANES))
         .zip(z_re.chunks_exact(LANES))
         .zip(z_im.chunks_exact(LANES))
+        .zip(w_re.chunks_exact_mut(LANES))
+        .zip(w_im.chunks_exact_mut(LANES))
     {
         for l in 0..LANES {
-            re[l] += cr[l] * zr[l] - ci[l] * zi[l];
-            im[l] += cr[l] * zi[l] + ci[l] * zr[l];
+            wr[l] = cr[l] * zr[l] - ci[l] * zi[l];
+            wi[l] = cr[l] * zi[l] + ci[l] * zr[l];
+            re[l] += wr[l];
+            im[l] += wi[l];
         }
     }
     (
         (re[0] + re[1]) + (re[2] + re[3]),
         (im[0] + im[1]) + (im[2] + im[3]),
     )
+}
+
+/// `sum_n a_n b_n` in `LANES` independent partial sums.
+fn dot_real(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; LANES];
+    for (a, b) in a.chunks_exact(LANES).zip(b.chunks_exact(LANES)) {
+        for l in 0..LANES {
+            acc[l] += a[l] * b[l];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 /// The cached phasors of one [`Sea`]: only a cache (any scratch gives the same values to the
@@ -635,6 +663,10 @@ pub struct SeaScratch {
     /// The last time difference that was not `step` (NaN: none).
     candidate: f64,
     since_sync: usize,
+    /// The slow drift's per-component terms (twice the padded length).
+    drift_weight: Vec<f64>,
+    /// The time of the last [`SeaScratch::advance`] (NaN: none): the phasors are there.
+    reached: f64,
 }
 
 impl SeaScratch {
@@ -649,6 +681,8 @@ impl SeaScratch {
             step: f64::NAN,
             candidate: f64::NAN,
             since_sync: 0,
+            drift_weight: vec![0.0; 2 * padded],
+            reached: f64::NAN,
         }
     }
 
@@ -662,6 +696,7 @@ impl SeaScratch {
 
     /// Brings the phasors to `time` (module docs).
     fn advance(&mut self, omega: &[f64], omega_max: f64, time: f64) {
+        self.reached = time;
         if !(self.base_time.is_finite() && time.is_finite()) {
             self.resync(omega, time);
             return;
