@@ -8,7 +8,7 @@ use crate::fmu::variables::WaveParameter;
 
 /// A drift table for the two DOFs of [`TWO_DOF_EXCITATION`] (R = 2 m, heading 0, kR 0.1 .. 1):
 /// sway `0.3 kR`, roll `0.05 kR`.
-const TWO_DOF_DRIFT: &str = "# modes: sway roll\n# convention: exp(+i omega t)\n\
+pub(crate) const TWO_DOF_DRIFT: &str = "# modes: sway roll\n# convention: exp(+i omega t)\n\
      # R: 2 m\n# length exponents: 0 1\nkR,j,heading,value\n\
      0.1,1,0,0.03\n0.1,2,0,0.005\n0.5,1,0,0.15\n0.5,2,0,0.025\n1,1,0,0.3\n1,2,0,0.05\n";
 

@@ -41,7 +41,7 @@
 //! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
 #[cfg(test)]
-mod drift_tests;
+pub(crate) mod drift_tests;
 mod outputs;
 mod snapshot;
 mod stepper;
