@@ -1,7 +1,9 @@
 //! One co-simulation step of the default 9-DOF semicircle network through the C ABI (set 9
 //! velocities, fmi2DoStep, get 9 forces; target <= 1 us on one core), in calm water and in a
 //! JONSWAP sea of the default 64 components (Hs 2 m, Tp 8 s; a synthetic excitation table in
-//! the resources; target <= 2 x the calm step); and in calm water the branch-chain network of
+//! the resources; target <= 2 x the calm step), and the same sea with the slow drift by
+//! Newman (`wave.drift` 2, a synthetic drift table nonzero in every DOF; target <= 1.5 x the
+//! sea without drift); and in calm water the branch-chain network of
 //! the same data (`CoupledMethod::Chains`), for the ratio in one run; and the calm step of the
 //! default network through the FMI 3.0 functions (fmi3SetFloat64, fmi3DoStep, fmi3GetFloat64).
 //! The baseline of the same run: the plain dense step of the default network, no FMI around it
@@ -36,7 +38,16 @@ const JONSWAP: i32 = 2;
 
 fn step(c: &mut Criterion) {
     bench_plain_dense(c, NETWORK);
-    bench_network(c, NETWORK, "", &["calm water", "JONSWAP, 64 components"]);
+    bench_network(
+        c,
+        NETWORK,
+        "",
+        &[
+            "calm water",
+            "JONSWAP, 64 components",
+            "JONSWAP, 64 components, with slow drift",
+        ],
+    );
     bench_fmi3(c, NETWORK);
     bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
 }
@@ -97,8 +108,29 @@ fn resources(text: &str, tag: &str) -> (std::path::PathBuf, CString) {
         common::synthetic_excitation_csv(),
     )
     .unwrap();
+    std::fs::write(dir.join(Resources::DRIFT_FILE), synthetic_drift_csv()).unwrap();
     let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
     (dir, guid)
+}
+
+/// A synthetic 9-DOF drift table (R = 1 m, the excitation table's kR grid, headings 0 and
+/// 180), nonzero in every DOF so that none is skipped.
+fn synthetic_drift_csv() -> String {
+    let mut text = format!(
+        "# modes: {}\n# convention: exp(+i omega t)\n# R: 1 m\n\
+         # length exponents: 0 0 1 0 0 1 0 0 1\nkR,j,heading,value\n",
+        common::MODES.join(" ")
+    );
+    for i in 0..201 {
+        let kr = 0.01 * 1000f64.powf(i as f64 / 200.0);
+        for (heading, sign) in [(0, 1.0), (180, -1.0)] {
+            for j in 0..common::MODES.len() {
+                let value = sign * 0.1 * (1.0 + j as f64) * kr / (1.0 + kr);
+                text += &format!("{kr:e},{},{heading},{value:e}\n", j + 1);
+            }
+        }
+    }
+    text
 }
 
 fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
@@ -136,6 +168,11 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
                 let values = [2.0, 8.0];
                 assert_eq!(fmi2SetReal(comp, refs.as_ptr(), 2, values.as_ptr()), fmi2OK);
             }
+            if sea.ends_with("with slow drift") {
+                // wave.drift: the last variable, after force_drift.<dof>.
+                let drift = [drift_reference(n)];
+                assert_eq!(fmi2SetInteger(comp, drift.as_ptr(), 1, &2), fmi2OK);
+            }
             assert_eq!(fmi2ExitInitializationMode(comp), fmi2OK);
             let h = 0.01;
             let mut t = 0.0;
@@ -169,6 +206,19 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The value reference of `wave.drift` for `n` DOFs without accelerations.
+fn drift_reference(n: u32) -> u32 {
+    use hydrofmu::fmu::{DofUnit, Layout};
+    let dofs = common::MODES[..n as usize]
+        .iter()
+        .map(|name| DofUnit::new(name, 0, false))
+        .collect();
+    let layout = Layout::new(dofs, false).unwrap().with_drift().unwrap();
+    let drift =
+        hydrofmu::fmu::variables::Quantity::Wave(hydrofmu::fmu::variables::WaveParameter::Drift);
+    layout.value_reference(drift).unwrap()
 }
 
 /// The calm-water step through the FMI 3.0 functions, for the ratio to FMI 2.0 in one run.

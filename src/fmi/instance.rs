@@ -129,7 +129,10 @@ impl Instance {
             .iter()
             .map(|n| DofUnit::new(n, 0, false))
             .collect();
-        let layout = Layout::new(dofs, resources.keep_inf_mass).map_err(|e| e.to_string())?;
+        let mut layout = Layout::new(dofs, resources.keep_inf_mass).map_err(|e| e.to_string())?;
+        if model.drift_table().is_some() {
+            layout = layout.with_drift().map_err(|e| e.to_string())?;
+        }
         let mut instance = Instance {
             name: name.to_owned(),
             log: LogSwitches::new(logging_on),

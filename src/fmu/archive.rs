@@ -11,6 +11,7 @@
 //! resources/hull.xml                          when the hull is known (a section)
 //! resources/excitation.csv                    the exciting force, when swept or imported
 //! resources/hydrostatics.csv                  the restoring of a whole body
+//! resources/drift.csv                         the mean drift table, when packed with one
 //! documentation/index.html                    summary, coefficients, variables, reports
 //! documentation/plots/fit-<i>-<j>.svg         fit against data, when given
 //! documentation/scene.txt                     the scene or fit report, when given
@@ -148,6 +149,8 @@ pub struct Body {
     pub hydrostatics_csv: Option<String>,
     /// The exciting force table, packed as `resources/excitation.csv`.
     pub excitation_csv: Option<String>,
+    /// The mean drift table, packed as `resources/drift.csv` ([`Body::with_sweep_drift`]).
+    pub drift_csv: Option<String>,
     /// A fit report for the documentation and `documentation/scene.txt` (a whole body).
     pub report: Option<String>,
 }
@@ -171,6 +174,7 @@ impl Body {
             extent: Extent::PerUnitLength,
             hydrostatics_csv: None,
             excitation_csv: None,
+            drift_csv: None,
             report: None,
         }
     }
@@ -198,6 +202,7 @@ impl Body {
                     .to_csv(&database.name, "whole body"),
             ),
             excitation_csv,
+            drift_csv: None,
             report,
         })
     }
@@ -221,6 +226,33 @@ impl Body {
             .write_excitation_csv(&mut text, ExcitationPart::Total)
             .map_err(|e| format!("cannot format the excitation table: {e}"))?;
         self.excitation_csv = Some(String::from_utf8_lossy(&text).into_owned());
+        Ok(self)
+    }
+
+    /// The section's mean drift table from its sweep ([`SweepResult::write_drift_csv`]), for
+    /// the DOFs `names` (those of the network): the FMU gets `wave.drift` and `force_drift`.
+    pub fn with_sweep_drift(
+        mut self,
+        sweep: &SweepResult,
+        names: &[String],
+    ) -> Result<Body, ArchiveError> {
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let sweep = sweep.select_dofs(&names).ok_or_else(|| {
+            format!(
+                "the sweep has no exciting force for the DOFs {}",
+                names.join(" ")
+            )
+        })?;
+        if sweep.excitation.iter().all(|forces| forces.drift.is_none()) {
+            return Err("the sweep has no drift force (no frequency solved with it)"
+                .to_string()
+                .into());
+        }
+        let mut text = Vec::new();
+        sweep
+            .write_drift_csv(&mut text)
+            .map_err(|e| format!("cannot format the drift table: {e}"))?;
+        self.drift_csv = Some(String::from_utf8_lossy(&text).into_owned());
         Ok(self)
     }
 }
@@ -375,7 +407,8 @@ impl Archive {
         let resources =
             Resources::with_options(self.network.xml.clone(), body.xml.clone(), keep_inf_mass)
                 .with_excitation(body.excitation_csv.clone())
-                .with_hydrostatics(body.hydrostatics_csv.clone());
+                .with_hydrostatics(body.hydrostatics_csv.clone())
+                .with_drift(body.drift_csv.clone());
         // The GUID is that of the packed texts.
         let guid = resources.guid();
         let options = ModelOptions {
@@ -398,8 +431,12 @@ impl Archive {
             })?;
             units.push(unit.clone());
         }
-        let layout =
+        let mut layout =
             Layout::with_extent(units, keep_inf_mass, body.extent).map_err(|e| e.to_string())?;
+        if let Some(text) = &resources.drift_csv {
+            crate::model::drift_table(text, model.dof_names()).map_err(|e| e.to_string())?;
+            layout = layout.with_drift().map_err(|e| e.to_string())?;
+        }
         let system = model.system();
         let model_name = format!("hydrofmu {}", body.name);
         let osp_description = osp::model_description(&layout);
@@ -468,6 +505,7 @@ impl Archive {
             (Resources::HULL_FILE, &resources.hull_xml),
             (Resources::EXCITATION_FILE, &resources.excitation_csv),
             (Resources::HYDROSTATICS_FILE, &resources.hydrostatics_csv),
+            (Resources::DRIFT_FILE, &resources.drift_csv),
         ];
         for (file, text) in optional {
             if let Some(text) = text {
@@ -612,5 +650,7 @@ Conventions: {axes}; force = force on the hull by the water.</p>
     )
 }
 
+#[cfg(test)]
+mod drift_tests;
 #[cfg(test)]
 mod tests;

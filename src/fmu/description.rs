@@ -9,7 +9,9 @@
 //! forces depend on the velocities (and accelerations) where `damping_direct` (`A_inf`) is
 //! non-zero, power on all inputs, energy on the velocities when `A_inf` is kept.
 
-use crate::fmu::variables::{valid_name, Causality, Layout, Quantity, VariablesError};
+use crate::fmu::variables::{
+    valid_name, Causality, Layout, Quantity, VariablesError, WaveParameter, DRIFT_CODES,
+};
 use nalgebra::DMatrix;
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
 use quick_xml::{Reader, Writer};
@@ -207,9 +209,25 @@ impl Layout {
             if v.causality == Causality::CalculatedParameter {
                 sv.push_attribute(("initial", "calculated"));
             }
+            if v.quantity == Quantity::Wave(WaveParameter::Drift) {
+                sv.push_attribute(("initial", "exact"));
+            }
             sv.push_attribute(("description", v.description.as_str()));
             w.write_event(Event::Start(sv))?;
             w.write_event(Event::Text(BytesText::from_escaped("\n      ")))?;
+            if v.quantity == Quantity::Wave(WaveParameter::Drift) {
+                // wave.drift, the one per-hull Integer.
+                let (min, max) = (DRIFT_CODES.0.to_string(), DRIFT_CODES.1.to_string());
+                let mut integer = BytesStart::new("Integer");
+                let start = format!("{}", v.start.unwrap_or(0.0) as i32);
+                integer.push_attribute(("start", start.as_str()));
+                integer.push_attribute(("min", min.as_str()));
+                integer.push_attribute(("max", max.as_str()));
+                w.write_event(Event::Empty(integer))?;
+                w.write_event(Event::Text(BytesText::from_escaped("\n    ")))?;
+                w.write_event(Event::End(BytesEnd::new("ScalarVariable")))?;
+                continue;
+            }
             let mut real = BytesStart::new("Real");
             let start = v.start.map(|s| format!("{s:?}"));
             if let Some(s) = &start {
@@ -289,6 +307,11 @@ impl Layout {
             ));
         }
         outputs.push((self.index_of(Quantity::WaveElevation), Vec::new(), "fixed"));
+        if self.drift {
+            for i in 0..n {
+                outputs.push((self.index_of(Quantity::ForceDrift(i)), Vec::new(), "fixed"));
+            }
+        }
         outputs.sort_by_key(|o| o.0);
         outputs
     }

@@ -11,7 +11,9 @@
 
 use crate::fmi::{Function, Standard};
 use crate::fmu::description::{DescriptionInfo, PARAMETERS};
-use crate::fmu::variables::{Causality, Layout, Quantity, VariablesError};
+use crate::fmu::variables::{
+    Causality, Layout, Quantity, VariablesError, WaveParameter, DRIFT_CODES,
+};
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
 use quick_xml::{Reader, Writer};
 use std::fmt;
@@ -306,6 +308,28 @@ impl Layout {
         let arrays = self.fmi3_arrays();
         let n = self.dof_count().to_string();
         for v in &self.variables {
+            if v.quantity == Quantity::Wave(WaveParameter::Drift) {
+                // wave.drift, the one per-hull Integer.
+                let mut e = BytesStart::new("Int32");
+                let vr = v.value_reference.to_string();
+                let start = format!("{}", v.start.unwrap_or(0.0) as i32);
+                let (min, max) = (DRIFT_CODES.0.to_string(), DRIFT_CODES.1.to_string());
+                for (key, value) in [
+                    ("name", v.name.as_str()),
+                    ("valueReference", vr.as_str()),
+                    ("causality", "parameter"),
+                    ("variability", "fixed"),
+                    ("initial", "exact"),
+                    ("description", v.description.as_str()),
+                    ("start", start.as_str()),
+                    ("min", min.as_str()),
+                    ("max", max.as_str()),
+                ] {
+                    e.push_attribute((key, value));
+                }
+                w.write_event(Event::Empty(e))?;
+                continue;
+            }
             if matches!(v.quantity, Quantity::Rho | Quantity::G | Quantity::Wave(_)) {
                 continue;
             }

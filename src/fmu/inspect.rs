@@ -31,6 +31,8 @@ pub struct Inspection {
     pub states: usize,
     /// A_inf kept inside.
     pub keep_inf_mass: bool,
+    /// Packed with a drift table (`resources/drift.csv`: `wave.drift`, `force_drift.<dof>`).
+    pub drift: bool,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -67,6 +69,12 @@ impl fmt::Display for Inspection {
                 "outside"
             }
         )?;
+        if self.drift {
+            writeln!(
+                f,
+                "drift             mean drift table (wave.drift 1 mean, 2 slow drift; force_drift.<dof>)"
+            )?;
+        }
         match &self.scene {
             Some(scene) => {
                 writeln!(f, "scene")?;
@@ -146,11 +154,16 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         &mut archive,
         &format!("resources/{}", Resources::HYDROSTATICS_FILE),
     )?;
+    let drift = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::DRIFT_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options)
         .map_err(|e| e.to_string())?
         .with_excitation(excitation)
-        .with_hydrostatics(hydrostatics);
+        .with_hydrostatics(hydrostatics)
+        .with_drift(drift);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
@@ -163,6 +176,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         variables: 0,
         states: model.network_states(),
         keep_inf_mass: resources.keep_inf_mass,
+        drift: resources.drift_csv.is_some(),
         entries,
         scene,
     };

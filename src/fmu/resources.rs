@@ -6,6 +6,7 @@
 //! resources/hull.xml      the hull, when known (the FMU computes its hydrostatics from it)
 //! resources/excitation.csv  the exciting force table (docs/WAVES.md), when packed with one
 //! resources/hydrostatics.csv  the restoring C / (rho g) of a body without a hull file (a ship)
+//! resources/drift.csv     the mean drift table (docs/WAVES.md), when packed with one
 //! ```
 //!
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
@@ -65,6 +66,8 @@ pub struct Resources {
     pub excitation_csv: Option<String>,
     /// Text of `hydrostatics.csv`, the restoring of a body packed without a hull file.
     pub hydrostatics_csv: Option<String>,
+    /// Text of `drift.csv`, the mean drift table, when the FMU models the drift force.
+    pub drift_csv: Option<String>,
 }
 
 impl Resources {
@@ -78,6 +81,16 @@ impl Resources {
     pub const EXCITATION_FILE: &'static str = "excitation.csv";
     /// The restoring table (optional; `crate::hydrostatics::Table`).
     pub const HYDROSTATICS_FILE: &'static str = "hydrostatics.csv";
+    /// The mean drift table (optional; `crate::waves::DriftTable`).
+    pub const DRIFT_FILE: &'static str = "drift.csv";
+
+    /// The same resources with the drift table `text`, or without one.
+    pub fn with_drift(self, text: Option<String>) -> Resources {
+        Resources {
+            drift_csv: text,
+            ..self
+        }
+    }
 
     /// The same resources with the restoring table `text`, or without one.
     pub fn with_hydrostatics(self, text: Option<String>) -> Resources {
@@ -117,6 +130,7 @@ impl Resources {
             keep_inf_mass,
             excitation_csv: None,
             hydrostatics_csv: None,
+            drift_csv: None,
         })
     }
 
@@ -144,9 +158,11 @@ impl Resources {
         let hull = optional(Self::HULL_FILE)?;
         let excitation = optional(Self::EXCITATION_FILE)?;
         let hydrostatics = optional(Self::HYDROSTATICS_FILE)?;
+        let drift = optional(Self::DRIFT_FILE)?;
         Ok(Resources::new(network, hull, options)?
             .with_excitation(excitation)
-            .with_hydrostatics(hydrostatics))
+            .with_hydrostatics(hydrostatics)
+            .with_drift(drift))
     }
 
     /// Resources from the network text and the flags (the options text is written, not
@@ -163,6 +179,7 @@ impl Resources {
             keep_inf_mass,
             excitation_csv: None,
             hydrostatics_csv: None,
+            drift_csv: None,
         }
     }
 
@@ -188,6 +205,10 @@ impl Resources {
         }
         if let Some(c) = &self.hydrostatics_csv {
             parts.push((Self::HYDROSTATICS_FILE, c.as_bytes()));
+        }
+        // Absent: the GUID of an FMU without drift stays what it was.
+        if let Some(d) = &self.drift_csv {
+            parts.push((Self::DRIFT_FILE, d.as_bytes()));
         }
         content_guid(&parts)
     }

@@ -17,6 +17,9 @@
 //! | `wave.elevation` | output | w0 + 2n |
 //! | `stiffness_hydrostatic[i,j]` | calculated parameter | w0 + 2n + 1 + (i-1) n + j - 1 |
 //!
+//! | `force_drift.<d_i>` (drift table only) | output | w0 + 2n + 1 + n^2 + i - 1 |
+//! | `wave.drift` (drift table only; Integer) | parameter, start 0 | w0 + 3n + 1 + n^2 |
+//!
 //! with `w0 = r0 + 3n + 2 + 2n^2` (after the acceleration slot, whether or not it is used),
 //! plus the fixed parameters of `modelDescription/fixed.xml`: `rho`, `g` and the wave
 //! parameters `wave.kind`, `wave.height`, `wave.period`, `wave.heading`, `wave.gamma`,
@@ -26,7 +29,9 @@
 //! is the power the hull delivers to the water through the radiated waves; `energy` is the
 //! energy stored in the equivalent network (plus `1/2 v^T A_inf v` when the FMU keeps
 //! `A_inf`). In calm water (`wave.kind = 0`, the default) `force` is the radiation force, as
-//! before the waves existed.
+//! before the waves existed. An FMU packed with a drift table ([`Layout::with_drift`]) adds
+//! `force_drift` (in `force` too) and its switch `wave.drift` (0 none, 1 mean, 2 slow drift
+//! by Newman; [`DRIFT_CODES`]) after every other variable, so no value reference moves.
 //!
 //! Units follow each DOF's length exponent ([`crate::fmu::units`]).
 //! [`Layout::model_description`] ([`crate::fmu::description`]) writes the complete
@@ -131,6 +136,9 @@ pub enum WaveParameter {
     Components,
     /// `wave.ramp` (s).
     Ramp,
+    /// `wave.drift` (Integer): 0 none, 1 mean drift, 2 slow drift by Newman. Declared only
+    /// with a drift table, after the per-hull variables (not in the fixed XML).
+    Drift,
 }
 
 impl WaveParameter {
@@ -138,11 +146,15 @@ impl WaveParameter {
     pub fn is_integer(self) -> bool {
         matches!(
             self,
-            WaveParameter::Kind | WaveParameter::Seed | WaveParameter::Components
+            WaveParameter::Kind
+                | WaveParameter::Seed
+                | WaveParameter::Components
+                | WaveParameter::Drift
         )
     }
 
-    /// Every wave parameter with its value reference.
+    /// Every wave parameter of the fixed XML with its value reference ([`Self::Drift`] is
+    /// per hull: [`Layout::value_reference`]).
     pub const ALL: [(WaveParameter, u32); 8] = [
         (WaveParameter::Kind, VR_WAVE_KIND),
         (WaveParameter::Height, VR_WAVE_HEIGHT),
@@ -187,6 +199,8 @@ pub enum Quantity {
     StiffnessHydrostatic(usize, usize),
     /// Energy stored in the network (output).
     Energy,
+    /// Wave drift force (output, only with a drift table).
+    ForceDrift(usize),
 }
 
 /// FMI causality.
@@ -252,6 +266,16 @@ pub struct Layout {
     pub(super) keep_inf_mass: bool,
     pub(super) extent: Extent,
     pub(super) variables: Vec<Variable>,
+    /// `force_drift` and `wave.drift` exist ([`Layout::with_drift`]).
+    pub(super) drift: bool,
+}
+
+/// The codes `wave.drift` accepts (declared min and max).
+pub const DRIFT_CODES: (i32, i32) = (0, 2);
+
+/// Offset (from [`FIRST_PER_HULL_REFERENCE`]) of the drift variables: after the hydrostatics.
+fn drift_base(n: usize) -> usize {
+    waves_base(n) + 2 * n + 1 + n * n
 }
 
 /// Offset (from [`FIRST_PER_HULL_REFERENCE`]) of the wave and hydrostatics variables: after
@@ -321,6 +345,7 @@ impl Layout {
             keep_inf_mass,
             extent,
             variables: Vec::new(),
+            drift: false,
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
@@ -521,6 +546,58 @@ impl Layout {
         Ok(layout)
     }
 
+    /// This layout with the variables of an FMU packed with a drift table, after all the
+    /// others: `force_drift.<dof>` (outputs) and `wave.drift` (Integer parameter, start 0).
+    pub fn with_drift(mut self) -> Result<Layout, VariablesError> {
+        if self.drift {
+            return Ok(self);
+        }
+        self.drift = true;
+        let extent = self.extent;
+        for (i, d) in self.dofs.iter().enumerate() {
+            self.variables.push(Variable {
+                name: format!("force_drift.{}", d.name),
+                value_reference: 0,
+                quantity: Quantity::ForceDrift(i),
+                causality: Causality::Output,
+                unit: extent.force_unit(d.length_exponent),
+                description: format!(
+                    "Wave drift force in DOF {} (in force; 0 in calm water or with wave.drift = 0)",
+                    d.name
+                ),
+                start: None,
+                integer: false,
+            });
+        }
+        self.variables.push(Variable {
+            name: "wave.drift".into(),
+            value_reference: 0,
+            quantity: Quantity::Wave(WaveParameter::Drift),
+            causality: Causality::Parameter,
+            unit: "",
+            description: "Wave drift force: 0 none, 1 mean drift, 2 slow drift by Newman's \
+                          approximation (docs/WAVES.md)"
+                .into(),
+            start: Some(0.0),
+            integer: true,
+        });
+        let n = self.dofs.len();
+        for k in 0..=n {
+            let quantity = self.variables[self.variables.len() - 1 - n + k].quantity;
+            let reference = self
+                .value_reference(quantity)
+                .ok_or(VariablesError::MissingValueReference)?;
+            let index = self.variables.len() - 1 - n + k;
+            self.variables[index].value_reference = reference;
+        }
+        Ok(self)
+    }
+
+    /// Whether the drift variables exist ([`Layout::with_drift`]).
+    pub fn has_drift(&self) -> bool {
+        self.drift
+    }
+
     /// The DOFs.
     pub fn dofs(&self) -> &[DofUnit] {
         &self.dofs
@@ -554,6 +631,7 @@ impl Layout {
         let offset = match quantity {
             Quantity::Rho => return Some(VR_RHO),
             Quantity::G => return Some(VR_G),
+            Quantity::Wave(WaveParameter::Drift) if self.drift => drift_base(n) + n,
             Quantity::Wave(w) => {
                 return WaveParameter::ALL
                     .iter()
@@ -573,6 +651,7 @@ impl Layout {
             Quantity::StiffnessHydrostatic(i, j) if i < n && j < n => {
                 waves_base(n) + 2 * n + 1 + i * n + j
             }
+            Quantity::ForceDrift(i) if i < n && self.drift => drift_base(n) + i,
             _ => return None,
         };
         u32::try_from(base + offset).ok()
@@ -613,6 +692,10 @@ impl Layout {
                 let r = r - 2 * n - 1;
                 Quantity::StiffnessHydrostatic(r / n, r % n)
             }
+        } else if self.drift && k >= drift_base(n) && k < drift_base(n) + n {
+            Quantity::ForceDrift(k - drift_base(n))
+        } else if self.drift && k == drift_base(n) + n {
+            Quantity::Wave(WaveParameter::Drift)
         } else {
             return None;
         };

@@ -40,6 +40,8 @@
 //! calculated parameters overflow. A state replaces the current one only if it meets the
 //! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
+#[cfg(test)]
+pub(crate) mod drift_tests;
 mod outputs;
 mod snapshot;
 mod stepper;
@@ -63,13 +65,38 @@ use crate::fmu::variables::{Layout, Quantity, WaveParameter};
 use crate::hull::Hull;
 use crate::hydrostatics;
 use crate::network::{Network, NetworkError};
-use crate::waves::{ExcitationTable, Sea, SeaScratch, WaveKind, WaveParams};
+use crate::waves::{DriftMode, DriftTable, ExcitationTable, Sea, SeaScratch, WaveKind, WaveParams};
 use nalgebra::DMatrix;
 use nalgebra::DVector;
 use outputs::Outputs;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use system::{check_parameter, parse_network};
+
+/// Parses `resources/drift.csv` and checks its modes against the network's DOFs `names`.
+pub(crate) fn drift_table(text: &str, names: &[String]) -> Result<DriftTable, ModelError> {
+    let source = format!("resources/{}", Resources::DRIFT_FILE);
+    let table =
+        DriftTable::from_csv_str(text, &source).map_err(|e| ModelError::Waves(e.to_string()))?;
+    if table.modes() != names {
+        return Err(ModelError::Waves(format!(
+            "{source}: modes {} differ from the network's DOFs {}",
+            table.modes().join(" "),
+            names.join(" ")
+        )));
+    }
+    Ok(table)
+}
+
+/// Why `wave.drift` = `mode` is refused without a drift table.
+fn no_drift_table(mode: DriftMode) -> String {
+    format!(
+        "wave.drift = {}: this FMU was packed without a drift table (resources/{}): only 0 \
+         (no drift force) is accepted",
+        mode.code(),
+        Resources::DRIFT_FILE
+    )
+}
 
 /// Relative tolerance on the communication point (times max(|t|, h)).
 pub const TIME_TOLERANCE: f64 = 1e-10;
@@ -278,6 +305,8 @@ pub struct Model {
     branch_forces: DVector<f64>,
     /// The exciting force table of `resources/excitation.csv` (DOFs in the network's order).
     excitation: Option<ExcitationTable>,
+    /// The mean drift table of `resources/drift.csv` (DOFs in the network's order).
+    drift: Option<DriftTable>,
     /// `C / (rho g)` from `resources/hull.xml`, in the network's DOF order.
     hydrostatics_per_rho_g: Option<DMatrix<f64>>,
     /// The sea of the state's wave parameters, once [`Model::start_waves`] has built it
@@ -311,6 +340,7 @@ impl Model {
             branch_forces: DVector::zeros(system.branch_count()),
             system,
             excitation: None,
+            drift: None,
             hydrostatics_per_rho_g: None,
             sea: None,
             waves_started: false,
@@ -347,6 +377,9 @@ impl Model {
                 )));
             }
             model.excitation = Some(table);
+        }
+        if let Some(text) = &resources.drift_csv {
+            model.drift = Some(drift_table(text, &names)?);
         }
         if let Some(text) = &resources.hydrostatics_csv {
             let source = format!("resources/{}", Resources::HYDROSTATICS_FILE);
@@ -417,15 +450,33 @@ impl Model {
                     .into(),
             ));
         };
-        Sea::new(
+        let sea = Sea::new(
             &state.waves,
             Some(table),
             state.rho,
             state.g,
             state.start_time,
-        )
-        .map(Some)
-        .map_err(|e| ModelError::Waves(e.to_string()))
+        );
+        let sea = match (&self.drift, state.waves.drift) {
+            (_, DriftMode::Off) => sea,
+            (Some(drift), mode) => {
+                sea.and_then(|s| s.with_drift(&state.waves, drift, mode, state.rho, state.g))
+            }
+            (None, _) => return Err(ModelError::Waves(no_drift_table(state.waves.drift))),
+        };
+        sea.map(Some).map_err(|e| ModelError::Waves(e.to_string()))
+    }
+
+    /// The drift force on every DOF at the current time (zeros in calm water or with
+    /// `wave.drift` = 0).
+    pub fn force_drift(&mut self) -> &DVector<f64> {
+        self.refresh();
+        &self.outputs.drift
+    }
+
+    /// The mean drift table the FMU was packed with, if any.
+    pub fn drift_table(&self) -> Option<&DriftTable> {
+        self.drift.as_ref()
     }
 
     /// The exciting force of the waves on every DOF at the current time (zeros in calm water).
@@ -494,6 +545,10 @@ impl Model {
             .map(|name| DofUnit::new(name, 0, false))
             .collect();
         Layout::new(dofs, self.system.keep_inf_mass)
+            .and_then(|layout| match self.drift {
+                Some(_) => layout.with_drift(),
+                None => Ok(layout),
+            })
             .ok()
             .and_then(|layout| {
                 let reference = layout.value_reference(quantity)?;
@@ -658,6 +713,7 @@ impl Model {
             // At most MAX_COMPONENTS: exact in f64.
             WaveParameter::Components => w.components as f64,
             WaveParameter::Ramp => w.ramp,
+            WaveParameter::Drift => f64::from(w.drift.code()),
         }
     }
 
@@ -697,6 +753,14 @@ impl Model {
                     WaveKind::from_code(value).map_err(|e| ModelError::Variable(e.to_string()))?
             }
             WaveParameter::Seed => waves.seed = value,
+            WaveParameter::Drift => {
+                let mode =
+                    DriftMode::from_code(value).map_err(|e| ModelError::Variable(e.to_string()))?;
+                if mode != DriftMode::Off && self.drift.is_none() {
+                    return Err(ModelError::Variable(no_drift_table(mode)));
+                }
+                waves.drift = mode;
+            }
             WaveParameter::Components => {
                 waves.components = usize::try_from(value).map_err(|_| {
                     ModelError::Variable(format!("wave.components = {value}: must be at least 1"))

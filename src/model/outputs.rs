@@ -57,6 +57,8 @@ pub(super) struct Outputs {
     pub(super) radiation: DVector<f64>,
     /// The exciting force of the waves (zero in calm water).
     pub(super) excitation: DVector<f64>,
+    /// The drift force of the waves (zero in calm water or without drift).
+    pub(super) drift: DVector<f64>,
     /// Wave elevation at x = 0.
     pub(super) elevation: f64,
     pub(super) power: f64,
@@ -70,6 +72,7 @@ impl Outputs {
             force: DVector::zeros(n),
             radiation: DVector::zeros(n),
             excitation: DVector::zeros(n),
+            drift: DVector::zeros(n),
             elevation: 0.0,
             power: 0.0,
             energy: None,
@@ -92,9 +95,16 @@ impl Model {
                 out.elevation = sea.evaluate(s.time, scratch, out.excitation.as_mut_slice());
                 // Calm water leaves the force untouched (bit for bit).
                 out.force += &out.excitation;
+                if sea.drift_mode() != crate::waves::DriftMode::Off {
+                    sea.evaluate_drift(s.time, scratch, out.drift.as_mut_slice());
+                    out.force += &out.drift;
+                } else {
+                    out.drift.fill(0.0);
+                }
             }
             None => {
                 out.excitation.fill(0.0);
+                out.drift.fill(0.0);
                 out.elevation = 0.0;
             }
         }
@@ -147,6 +157,10 @@ impl Model {
                 self.refresh();
                 self.outputs.elevation
             }
+            Quantity::ForceDrift(i) if i < n && self.drift.is_some() => {
+                self.refresh();
+                self.outputs.drift[i]
+            }
             Quantity::StiffnessHydrostatic(i, j) if i < n && j < n => {
                 self.stiffness_hydrostatic()[(i, j)]
             }
@@ -195,12 +209,24 @@ impl Model {
         }
         // The sea's own rates at the current time (exact: the harmonic sum's derivative).
         let mut excitation_rate = DVector::zeros(n);
+        let mut drift_rate = DVector::zeros(n);
+        let mut drift_active = false;
         let elevation_rate = match &self.sea {
-            Some((sea, _)) => sea.evaluate_rate(s.time, excitation_rate.as_mut_slice()),
+            Some((sea, _)) => {
+                if sea.drift_mode() != crate::waves::DriftMode::Off {
+                    drift_active = true;
+                    sea.evaluate_drift_rate(s.time, drift_rate.as_mut_slice());
+                }
+                sea.evaluate_rate(s.time, excitation_rate.as_mut_slice())
+            }
             None => 0.0,
         };
         match quantity {
+            Quantity::Force(i) if i < n && drift_active => {
+                Ok(fdot[i] + excitation_rate[i] + drift_rate[i])
+            }
             Quantity::Force(i) if i < n => Ok(fdot[i] + excitation_rate[i]),
+            Quantity::ForceDrift(i) if i < n && self.drift.is_some() => Ok(drift_rate[i]),
             Quantity::ForceExcitation(i) if i < n => Ok(excitation_rate[i]),
             Quantity::WaveElevation => Ok(elevation_rate),
             Quantity::ForceRadiation(i) if i < n => Ok(fdot[i]),
@@ -270,6 +296,16 @@ impl Model {
             // The waves depend on time only.
             (Quantity::ForceExcitation(i), Quantity::Velocity(j)) if i < n && j < n => 0.0,
             (Quantity::ForceExcitation(i), Quantity::Acceleration(j)) if i < n && j < n && keep => {
+                0.0
+            }
+            (Quantity::ForceDrift(i), Quantity::Velocity(j))
+                if i < n && j < n && self.drift.is_some() =>
+            {
+                0.0
+            }
+            (Quantity::ForceDrift(i), Quantity::Acceleration(j))
+                if i < n && j < n && keep && self.drift.is_some() =>
+            {
                 0.0
             }
             (Quantity::WaveElevation, Quantity::Velocity(j)) if j < n => 0.0,

@@ -4,8 +4,9 @@
 //! (u32 length + UTF-8), DOFs n and states (u32 each), keep_inf_mass (u8), rho, g, time,
 //! time anchor, last step (f64 each), steps since the anchor (u64), then z, v, v', a, a'
 //! (f64 each), the wave parameters (kind, seed, components, height, period, heading, gamma, ramp:
-//! `write_waves`), the start time and the stop time (f64 each, +inf: none), then an FNV-1a
-//! 64 checksum of everything before it.
+//! `write_waves`), the start time and the stop time (f64 each, +inf: none), `wave.drift`
+//! (i32; only in the states of an FMU packed with a drift table, so the bytes of every other
+//! FMU are unchanged), then an FNV-1a 64 checksum of everything before it.
 //!
 //! The bytes are untrusted input. Every size they decide is bounded before anything is
 //! allocated (the GUID at 1024 bytes, the vectors at this component's dimensions, which
@@ -15,12 +16,18 @@
 //! would accept any change made with the checksum recomputed.
 
 use super::{Model, ModelError, ModelState};
-use crate::waves::{WaveKind, WaveParams};
+use crate::waves::{DriftMode, WaveKind, WaveParams};
 use nalgebra::DVector;
 
 const MAGIC: &[u8; 8] = b"HYDROFMU";
 /// 3: the stop time after the start time.
 const FORMAT_VERSION: u32 = 3;
+
+/// The state bytes' checksum (FNV-1a 64).
+#[cfg(test)]
+pub(super) fn checksum(bytes: &[u8]) -> u64 {
+    fnv1a(bytes)
+}
 
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf29ce484222325u64, |h, b| {
@@ -101,6 +108,7 @@ fn read_waves(r: &mut ByteReader<'_>) -> Result<WaveParams, ModelError> {
         heading: r.f64()?,
         gamma: r.f64()?,
         ramp: r.f64()?,
+        drift: DriftMode::Off,
     };
     waves.validate().map_err(invalid)?;
     Ok(waves)
@@ -137,6 +145,9 @@ impl Model {
         b.extend_from_slice(&s.start_time.to_le_bytes());
         let stop = s.stop_time.unwrap_or(f64::INFINITY);
         b.extend_from_slice(&stop.to_le_bytes());
+        if self.drift.is_some() {
+            b.extend_from_slice(&s.waves.drift.code().to_le_bytes());
+        }
         let sum = fnv1a(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -146,7 +157,14 @@ impl Model {
     pub fn serialized_size(&self) -> usize {
         let n = self.dof_count();
         let ns = self.system.state_size();
-        HEADER_BYTES + self.guid.len() + FIXED_BYTES + 8 * (ns + 4 * n) + WAVE_AND_RUN_BYTES + 8
+        let drift = if self.drift.is_some() { 4 } else { 0 };
+        HEADER_BYTES
+            + self.guid.len()
+            + FIXED_BYTES
+            + 8 * (ns + 4 * n)
+            + WAVE_AND_RUN_BYTES
+            + drift
+            + 8
     }
 
     /// Reads state bytes written by [`Model::serialize`] of an FMU with the same GUID, and
@@ -196,7 +214,7 @@ impl Model {
                 "dimensions {n} DOFs, {ns} states do not match this FMU"
             )));
         }
-        let state = ModelState {
+        let mut state = ModelState {
             rho: r.f64()?,
             g: r.f64()?,
             time: r.f64()?,
@@ -213,6 +231,10 @@ impl Model {
             // +inf: no stop time; anything else must pass the checks below.
             stop_time: Some(r.f64()?).filter(|t| *t != f64::INFINITY),
         };
+        if self.drift.is_some() {
+            state.waves.drift = DriftMode::from_code(r.u32()? as i32)
+                .map_err(|e| ModelError::State(format!("wave parameters: {e}")))?;
+        }
         if r.at != body.len() {
             return Err(ModelError::State("trailing bytes".into()));
         }

@@ -74,6 +74,12 @@ impl Model {
             .waves
             .validate()
             .map_err(|e| ModelError::State(format!("wave parameters: {e}")))?;
+        if state.waves.drift != crate::waves::DriftMode::Off && self.drift.is_none() {
+            return refuse(format!(
+                "wave.drift = {}: this FMU has no drift table",
+                state.waves.drift.code()
+            ));
+        }
         // A sea is built with a heading of the table; calm water keeps any heading (the
         // declared start value 0 may be missing from a ship's table).
         let sea = state.waves.kind != crate::waves::WaveKind::Calm;

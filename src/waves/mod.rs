@@ -20,17 +20,35 @@
 //!   equal weight half by energy and half by width, the frequency uniform inside its bin, `a_n = sqrt(2 S(omega_n) d omega_n)`, the
 //!   phase uniform in `[0, 2 pi)`, all from SplitMix64 seeded by the seed.
 //!
+//! Drift ([`Sea::with_drift`], a [`DriftTable`] and `wave.drift` = [`DriftMode`]): with
+//! `d_nj = D_j(omega_n)` in SI (`rho g R^e_j` times the table's value, linear in `kR`),
+//!
+//! ```text
+//! mean    F_j = r(t)^2 sum_n a_n^2 d_nj
+//! Newman  F_j = r(t)^2 Re[P_j(t) conj(Q(t))],  P_j = sum_n a_n d_nj e^{i(omega_n t + eps_n)},
+//!                                              Q   = sum_n a_n e^{i(omega_n t + eps_n)}
+//! ```
+//!
+//! Newman's approximation `T_nm = (T_nn + T_mm) / 2` keeps the difference frequencies only:
+//! `Re[P conj Q] = sum_n a_n^2 d_nj + sum_{n<m} 2 a_n a_m T_nm cos(theta_n - theta_m)`, whose
+//! time mean is the mean drift (`2 int S D d omega` in the limit) and whose variance is
+//! `sum_{n != m} a_n^2 a_m^2 T_nm^2`. A regular wave gives `a^2 D_j` in both modes. DOFs with
+//! zero drift at every frequency are skipped; the cost is O(N) per step from the same phasors.
+//!
 //! [`Sea`] is the immutable realization (rebuilt from the parameters and the start time);
 //! [`SeaScratch`] caches the phasors `e^{i omega_n t}` that [`Sea::evaluate`] advances by
 //! multiplication.
 //!
-//! Where things are: `table.rs` the excitation table and its interpolation, `spectrum.rs` the
+//! Where things are: `table.rs` the excitation table and its interpolation (and the parser
+//! both tables share), `drift_table.rs` the drift table, `spectrum.rs` the
 //! JONSWAP spectrum and its discretization, `sea.rs` the realization and its evaluation.
 
+mod drift_table;
 mod sea;
 mod spectrum;
 mod table;
 
+pub use drift_table::{DriftMode, DriftTable};
 pub use sea::{Sea, SeaScratch};
 #[cfg(test)]
 use spectrum::jonswap;
@@ -180,6 +198,8 @@ pub struct WaveParams {
     pub components: usize,
     /// Ramp duration from the start time (s, >= 0; 0: no ramp). Default 0.
     pub ramp: f64,
+    /// The drift force (`wave.drift`, only with a drift table). Default off.
+    pub drift: DriftMode,
 }
 
 impl Default for WaveParams {
@@ -193,6 +213,7 @@ impl Default for WaveParams {
             seed: 1,
             components: DEFAULT_COMPONENTS,
             ramp: 0.0,
+            drift: DriftMode::Off,
         }
     }
 }
@@ -283,5 +304,7 @@ fn heading_direction(heading: f64) -> Result<f64, WaveError> {
     ))
 }
 
+#[cfg(test)]
+mod drift_tests;
 #[cfg(test)]
 mod tests;

@@ -15,7 +15,8 @@
 
 use super::spectrum::{self, Components};
 use super::{
-    heading_direction, ExcitationTable, WaveError, WaveKind, WaveParams, HEADING_TOLERANCE,
+    heading_direction, DriftMode, DriftTable, ExcitationTable, WaveError, WaveKind, WaveParams,
+    HEADING_TOLERANCE,
 };
 use crate::units;
 use num_complex::Complex64;
@@ -53,6 +54,23 @@ pub struct Sea {
     target_variance: f64,
     spectrum_m0: f64,
     notes: Vec<String>,
+    /// The drift forces ([`Sea::with_drift`]); `None`: no drift.
+    drift: Option<SeaDrift>,
+}
+
+/// The drift coefficients of a sea (module docs of [`crate::waves`]): per DOF `j` with a
+/// nonzero drift, `d_nj = D_j(omega_n)` in SI.
+#[derive(Clone, Debug)]
+struct SeaDrift {
+    mode: DriftMode,
+    /// The table's mode count (DOFs of the output).
+    dofs: usize,
+    /// The DOFs whose drift is not zero at every frequency of the heading.
+    active: Vec<usize>,
+    /// Per active DOF, `sum_n a_n^2 d_nj`.
+    mean: Vec<f64>,
+    /// Per active DOF, `d_nj`: `[active * padded + n]` (zero in the padding).
+    coefficient: Vec<f64>,
 }
 
 impl Sea {
@@ -146,6 +164,7 @@ impl Sea {
             target_variance: components.represented_m0,
             spectrum_m0: components.spectrum_m0,
             notes,
+            drift: None,
         };
         sea.omega[..count].copy_from_slice(&components.omega);
         let mut excitation = vec![Complex64::new(0.0, 0.0); dofs];
@@ -172,6 +191,180 @@ impl Sea {
             }
         }
         Ok(sea)
+    }
+
+    /// This sea with the drift forces of `table` in `mode` (module docs of [`crate::waves`]),
+    /// at the heading of `params` (the parameters the sea was built with), for `rho` and `g`.
+    /// [`DriftMode::Off`] or calm water: no drift force.
+    ///
+    /// # Errors
+    /// A heading the table lacks; a component above the table's highest `kR`.
+    pub fn with_drift(
+        mut self,
+        params: &WaveParams,
+        table: &DriftTable,
+        mode: DriftMode,
+        rho: f64,
+        g: f64,
+    ) -> Result<Sea, WaveError> {
+        if mode == DriftMode::Off || self.count == 0 {
+            self.drift = None;
+            return Ok(self);
+        }
+        let heading = table
+            .heading_index(params.heading)
+            .ok_or_else(|| WaveError::Band {
+                message: format!(
+                    "wave.heading = {} deg: the drift table has no such heading (it has {:?})",
+                    params.heading,
+                    table.headings()
+                ),
+            })?;
+        let dofs = table.modes().len();
+        let active: Vec<usize> = (0..dofs).filter(|&j| !table.is_zero(j, heading)).collect();
+        let padded = self.padded;
+        let mut drift = SeaDrift {
+            mode,
+            dofs,
+            mean: vec![0.0; active.len()],
+            coefficient: vec![0.0; active.len() * padded],
+            active,
+        };
+        for n in 0..self.count {
+            let kr = units::kr_from_omega(self.omega[n], table.radius(), g);
+            if kr > table.highest_kr() * (1.0 + BAND_SLACK) {
+                return Err(WaveError::Band {
+                    message: format!(
+                        "wave component omega = {} rad/s (kR = {kr}) is above the drift \
+                         table's highest kR {}",
+                        self.omega[n],
+                        table.highest_kr()
+                    ),
+                });
+            }
+            let amplitude = self.amplitude[n];
+            for (a, &j) in drift.active.iter().enumerate() {
+                let value = table.interpolate(j, heading, kr).unwrap_or(f64::NAN);
+                let d = value * table.force_scale(j, rho, g).unwrap_or(f64::NAN);
+                drift.mean[a] += amplitude * amplitude * d;
+                drift.coefficient[a * padded + n] = d;
+            }
+        }
+        self.drift = Some(drift);
+        Ok(self)
+    }
+
+    /// The drift mode in use ([`DriftMode::Off`] without drift).
+    pub fn drift_mode(&self) -> DriftMode {
+        self.drift.as_ref().map_or(DriftMode::Off, |d| d.mode)
+    }
+
+    /// The mean drift force `sum_n a_n^2 d_nj` (SI) of DOF `j` after the ramp; 0 without
+    /// drift or for a DOF whose drift is zero.
+    pub fn mean_drift(&self, j: usize) -> f64 {
+        self.drift.as_ref().map_or(0.0, |d| {
+            d.active
+                .iter()
+                .position(|&a| a == j)
+                .map_or(0.0, |a| d.mean[a])
+        })
+    }
+
+    /// Writes the drift force of DOF `j` at `time` to `forces[j]` (`j` below the drift
+    /// table's mode count; zeros elsewhere and without drift): mean, `r^2 sum_n a_n^2 d_nj`;
+    /// Newman, `r^2 Re[P_j conj(Q)]` from `scratch`'s phasors (advanced to `time` as
+    /// [`Self::evaluate`] does, no work when it is already there).
+    pub fn evaluate_drift(&self, time: f64, scratch: &mut SeaScratch, forces: &mut [f64]) {
+        forces.fill(0.0);
+        let Some(drift) = &self.drift else {
+            return;
+        };
+        let ramp = self.ramp_factor(time);
+        let ramp2 = ramp * ramp;
+        match drift.mode {
+            DriftMode::Off => {}
+            DriftMode::Mean => {
+                for (&j, mean) in drift.active.iter().zip(&drift.mean) {
+                    if let Some(force) = forces.get_mut(j) {
+                        *force = ramp2 * mean;
+                    }
+                }
+            }
+            DriftMode::Newman => {
+                if scratch.z_re.len() != self.padded {
+                    *scratch = self.scratch();
+                }
+                // The phasors the exciting force used at this time, when it came first.
+                if scratch.reached != time {
+                    scratch.advance(&self.omega, self.omega_max, time);
+                }
+                // F_j = Re[P_j conj Q] = sum_n d_nj u_n, u_n = Re[w_n conj Q], w_n = e_n z_n.
+                let weights = &mut scratch.drift_weight;
+                let (q_re, q_im) = elevation_terms(
+                    &self.elevation_re,
+                    &self.elevation_im,
+                    &scratch.z_re,
+                    &scratch.z_im,
+                    weights,
+                );
+                let (w_re, w_im) = weights.split_at_mut(self.padded);
+                for (re, im) in w_re.iter_mut().zip(w_im.iter()) {
+                    *re = *re * q_re + im * q_im;
+                }
+                for (a, &j) in drift.active.iter().enumerate() {
+                    let Some(force) = forces.get_mut(j) else {
+                        continue;
+                    };
+                    let range = a * self.padded..(a + 1) * self.padded;
+                    *force = ramp2 * dot_real(&drift.coefficient[range], w_re);
+                }
+            }
+        }
+    }
+
+    /// The time derivative of [`Self::evaluate_drift`] at `time`, by the direct sum:
+    /// mean, `2 r r' M_j`; Newman, `2 r r' Re[P conj Q] + r^2 Re[P' conj Q + P conj Q']` with
+    /// `P' = sum_n i omega_n (...)`.
+    pub fn evaluate_drift_rate(&self, time: f64, forces_rate: &mut [f64]) {
+        forces_rate.fill(0.0);
+        let Some(drift) = &self.drift else {
+            return;
+        };
+        let (ramp, ramp_rate) = (self.ramp_factor(time), self.ramp_rate(time));
+        let (mut q, mut q_rate) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+        let mut phasors = Vec::with_capacity(self.count);
+        for n in 0..self.count {
+            let z = Complex64::cis(self.omega[n] * time);
+            let term = Complex64::new(self.elevation_re[n], self.elevation_im[n]) * z;
+            q += term;
+            q_rate += Complex64::i() * self.omega[n] * term;
+            phasors.push(z);
+        }
+        for (a, &j) in drift.active.iter().enumerate() {
+            let Some(rate) = forces_rate.get_mut(j) else {
+                continue;
+            };
+            *rate = match drift.mode {
+                DriftMode::Off => 0.0,
+                DriftMode::Mean => 2.0 * ramp * ramp_rate * drift.mean[a],
+                DriftMode::Newman => {
+                    let (mut p, mut p_rate) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+                    for (n, z) in phasors.iter().enumerate() {
+                        let e = Complex64::new(self.elevation_re[n], self.elevation_im[n]);
+                        let term = e * z * drift.coefficient[a * self.padded + n];
+                        p += term;
+                        p_rate += Complex64::i() * self.omega[n] * term;
+                    }
+                    2.0 * ramp * ramp_rate * (p * q.conj()).re
+                        + ramp * ramp * (p_rate * q.conj() + p * q_rate.conj()).re
+                }
+            };
+        }
+    }
+
+    /// Number of DOFs with a drift output (the drift table's modes; 0 without drift).
+    pub fn drift_dof_count(&self) -> usize {
+        self.drift.as_ref().map_or(0, |d| d.dofs)
     }
 
     /// Fallbacks taken and warnings (band cuts, long-wave interpolation, gamma outside 1..7,
@@ -411,6 +604,49 @@ fn dot(c_re: &[f64], c_im: &[f64], z_re: &[f64], z_im: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
+/// The terms `w_n = c_n z_n` into `out` (real parts, then imaginary parts; `out.len()` twice
+/// the others') and their sum, in `LANES` independent partial sums.
+fn elevation_terms(
+    c_re: &[f64],
+    c_im: &[f64],
+    z_re: &[f64],
+    z_im: &[f64],
+    out: &mut [f64],
+) -> (f64, f64) {
+    let (w_re, w_im) = out.split_at_mut(c_re.len());
+    let (mut re, mut im) = ([0.0; LANES], [0.0; LANES]);
+    for (((((cr, ci), zr), zi), wr), wi) in c_re
+        .chunks_exact(LANES)
+        .zip(c_im.chunks_exact(LANES))
+        .zip(z_re.chunks_exact(LANES))
+        .zip(z_im.chunks_exact(LANES))
+        .zip(w_re.chunks_exact_mut(LANES))
+        .zip(w_im.chunks_exact_mut(LANES))
+    {
+        for l in 0..LANES {
+            wr[l] = cr[l] * zr[l] - ci[l] * zi[l];
+            wi[l] = cr[l] * zi[l] + ci[l] * zr[l];
+            re[l] += wr[l];
+            im[l] += wi[l];
+        }
+    }
+    (
+        (re[0] + re[1]) + (re[2] + re[3]),
+        (im[0] + im[1]) + (im[2] + im[3]),
+    )
+}
+
+/// `sum_n a_n b_n` in `LANES` independent partial sums.
+fn dot_real(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; LANES];
+    for (a, b) in a.chunks_exact(LANES).zip(b.chunks_exact(LANES)) {
+        for l in 0..LANES {
+            acc[l] += a[l] * b[l];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
 /// The cached phasors of one [`Sea`]: only a cache (any scratch gives the same values to the
 /// bound in the module docs); clone it into a saved state for a bit-identical replay.
 #[derive(Clone, Debug)]
@@ -427,6 +663,10 @@ pub struct SeaScratch {
     /// The last time difference that was not `step` (NaN: none).
     candidate: f64,
     since_sync: usize,
+    /// The slow drift's per-component terms (twice the padded length).
+    drift_weight: Vec<f64>,
+    /// The time of the last [`SeaScratch::advance`] (NaN: none): the phasors are there.
+    reached: f64,
 }
 
 impl SeaScratch {
@@ -441,6 +681,8 @@ impl SeaScratch {
             step: f64::NAN,
             candidate: f64::NAN,
             since_sync: 0,
+            drift_weight: vec![0.0; 2 * padded],
+            reached: f64::NAN,
         }
     }
 
@@ -454,6 +696,7 @@ impl SeaScratch {
 
     /// Brings the phasors to `time` (module docs).
     fn advance(&mut self, omega: &[f64], omega_max: f64, time: f64) {
+        self.reached = time;
         if !(self.base_time.is_finite() && time.is_finite()) {
             self.resync(omega, time);
             return;

@@ -104,183 +104,15 @@ impl ExcitationTable {
     /// `kR`; duplicated or missing rows; more than [`MAX_ROWS`] rows, [`MAX_WAVE_FREQUENCIES`]
     /// `kR`, [`MAX_MODES`] modes or [`MAX_HEADINGS`] headings; fewer than two positive `kR`.
     pub fn from_csv_str(text: &str, source_name: &str) -> Result<ExcitationTable, WaveError> {
-        let error = |line: Option<usize>, message: String| WaveError::Table {
-            source: source_name.to_string(),
-            line,
-            message,
-        };
-        if text.len() > MAX_TABLE_BYTES {
-            return Err(error(
-                None,
-                format!(
-                    "{} bytes: the limit is {MAX_TABLE_BYTES} bytes (64 MiB)",
-                    text.len()
-                ),
-            ));
-        }
-        let mut header = Header::default();
-        let mut columns_seen = false;
-        let mut rows: Vec<Row> = Vec::new();
-        let mut headings: Vec<f64> = Vec::new();
-        for (index, raw) in text.lines().enumerate() {
-            let line = index + 1;
-            let trimmed = raw.trim();
-            if trimmed.is_empty() {
-                continue;
-            }
-            if let Some(comment) = trimmed.strip_prefix('#') {
-                if columns_seen && header.is_key_line(comment) {
-                    return Err(error(
-                        Some(line),
-                        "header line after the column line `kR,j,heading,re,im`".to_string(),
-                    ));
-                }
-                header.read(comment).map_err(|m| error(Some(line), m))?;
-                continue;
-            }
-            if !columns_seen {
-                if trimmed != COLUMNS {
-                    return Err(error(
-                        Some(line),
-                        format!("expected the column line `{COLUMNS}`, found `{trimmed}`"),
-                    ));
-                }
-                header.complete().map_err(|m| error(Some(line), m))?;
-                columns_seen = true;
-                continue;
-            }
-            if rows.len() == MAX_ROWS {
-                return Err(error(Some(line), format!("more than {MAX_ROWS} data rows")));
-            }
-            let row = parse_row(trimmed, line, header.modes.len(), &mut headings)
-                .map_err(|m| error(Some(line), m))?;
-            rows.push(row);
-        }
-        if !columns_seen {
-            header.complete().map_err(|m| error(None, m))?;
-            return Err(error(
-                None,
-                format!("no column line `{COLUMNS}` (and so no data)"),
-            ));
-        }
-        Self::assemble(header, headings, rows, &error)
-    }
-
-    fn assemble(
-        header: Header,
-        headings: Vec<f64>,
-        mut rows: Vec<Row>,
-        error: &dyn Fn(Option<usize>, String) -> WaveError,
-    ) -> Result<ExcitationTable, WaveError> {
-        let modes = header.modes;
-        if rows.is_empty() {
-            return Err(error(None, "no data rows".to_string()));
-        }
-        // Headings in ascending order; rows renumbered.
-        let mut order: Vec<usize> = (0..headings.len()).collect();
-        order.sort_by(|&a, &b| headings[a].total_cmp(&headings[b]));
-        let mut rank = vec![0; headings.len()];
-        for (position, &original) in order.iter().enumerate() {
-            rank[original] = position;
-        }
-        let headings: Vec<f64> = order.iter().map(|&i| headings[i]).collect();
-        for row in &mut rows {
-            row.heading = rank[row.heading];
-        }
-        rows.sort_by(|a, b| {
-            a.kr.total_cmp(&b.kr)
-                .then(a.heading.cmp(&b.heading))
-                .then(a.mode.cmp(&b.mode))
-                .then(a.line.cmp(&b.line))
-        });
-        let mut kr: Vec<f64> = Vec::new();
-        for row in &rows {
-            if kr.last() != Some(&row.kr) {
-                if kr.len() == MAX_WAVE_FREQUENCIES {
-                    return Err(error(
-                        Some(row.line),
-                        format!("more than {MAX_WAVE_FREQUENCIES} distinct kR"),
-                    ));
-                }
-                kr.push(row.kr);
-            }
-        }
-        if kr.iter().filter(|&&k| k > 0.0).count() < 2 {
-            return Err(error(
-                None,
-                "fewer than two positive kR: no band to interpolate in".to_string(),
-            ));
-        }
-        let expected = kr.len() * headings.len() * modes.len();
-        if rows.len() > expected {
-            // Some key appears twice: find it.
-            for pair in rows.windows(2) {
-                if pair[0].kr == pair[1].kr
-                    && pair[0].heading == pair[1].heading
-                    && pair[0].mode == pair[1].mode
-                {
-                    return Err(error(
-                        Some(pair[1].line),
-                        format!(
-                            "duplicated row kR = {}, heading = {}, j = {} ({}): first on line {}",
-                            pair[1].kr,
-                            headings[pair[1].heading],
-                            pair[1].mode + 1,
-                            modes[pair[1].mode],
-                            pair[0].line
-                        ),
-                    ));
-                }
-            }
-        }
-        let mut values = vec![Complex64::new(f64::NAN, f64::NAN); expected];
-        let mut filled = vec![false; expected];
-        let mut k = 0;
-        for row in &rows {
-            while kr[k] != row.kr {
-                k += 1;
-            }
-            let slot = (row.heading * modes.len() + row.mode) * kr.len() + k;
-            if filled[slot] {
-                return Err(error(
-                    Some(row.line),
-                    format!(
-                        "duplicated row kR = {}, heading = {}, j = {} ({})",
-                        row.kr,
-                        headings[row.heading],
-                        row.mode + 1,
-                        modes[row.mode]
-                    ),
-                ));
-            }
-            filled[slot] = true;
-            values[slot] = row.value;
-        }
-        if let Some(slot) = filled.iter().position(|&f| !f) {
-            let k = slot % kr.len();
-            let mode = (slot / kr.len()) % modes.len();
-            let heading = slot / (kr.len() * modes.len());
-            return Err(error(
-                None,
-                format!(
-                    "missing row kR = {}, heading = {}, j = {} ({}): every kR and heading \
-                     needs all {} modes",
-                    kr[k],
-                    headings[heading],
-                    mode + 1,
-                    modes[mode],
-                    modes.len()
-                ),
-            ));
-        }
+        let grid = Grid::parse(text, source_name, COLUMNS)?;
         Ok(ExcitationTable {
-            hull: header.hull,
-            modes,
-            radius: header.radius.unwrap_or(f64::NAN),
-            length_exponents: header.length_exponents,
-            kr,
-            headings,
-            values,
+            hull: grid.hull,
+            modes: grid.modes,
+            radius: grid.radius,
+            length_exponents: grid.length_exponents,
+            kr: grid.kr,
+            headings: grid.headings,
+            values: grid.values,
         })
     }
 
@@ -418,6 +250,204 @@ impl ExcitationTable {
             *slot = stencil.apply(&series(mode)[first..]);
         }
         Some(())
+    }
+}
+
+/// The rows of a table on its rectangular set of `kR` x heading x mode, with its header: what
+/// the excitation and drift tables share (a drift value is the real part).
+pub(super) struct Grid {
+    pub(super) hull: Option<String>,
+    pub(super) modes: Vec<String>,
+    pub(super) radius: f64,
+    pub(super) length_exponents: Vec<i32>,
+    pub(super) kr: Vec<f64>,
+    pub(super) headings: Vec<f64>,
+    /// `[(heading * modes + j) * kr.len() + k]`.
+    pub(super) values: Vec<Complex64>,
+}
+
+impl Grid {
+    /// Parses the text of a table whose column line is `columns` (`kR,j,heading,` and one
+    /// field `value` or two `re,im`); `source_name` (the file name) starts every error message.
+    pub(super) fn parse(text: &str, source_name: &str, columns: &str) -> Result<Grid, WaveError> {
+        let error = |line: Option<usize>, message: String| WaveError::Table {
+            source: source_name.to_string(),
+            line,
+            message,
+        };
+        if text.len() > MAX_TABLE_BYTES {
+            return Err(error(
+                None,
+                format!(
+                    "{} bytes: the limit is {MAX_TABLE_BYTES} bytes (64 MiB)",
+                    text.len()
+                ),
+            ));
+        }
+        let mut header = Header::default();
+        let mut columns_seen = false;
+        let mut rows: Vec<Row> = Vec::new();
+        let mut headings: Vec<f64> = Vec::new();
+        for (index, raw) in text.lines().enumerate() {
+            let line = index + 1;
+            let trimmed = raw.trim();
+            if trimmed.is_empty() {
+                continue;
+            }
+            if let Some(comment) = trimmed.strip_prefix('#') {
+                if columns_seen && header.is_key_line(comment) {
+                    return Err(error(
+                        Some(line),
+                        format!("header line after the column line `{columns}`"),
+                    ));
+                }
+                header.read(comment).map_err(|m| error(Some(line), m))?;
+                continue;
+            }
+            if !columns_seen {
+                if trimmed != columns {
+                    return Err(error(
+                        Some(line),
+                        format!("expected the column line `{columns}`, found `{trimmed}`"),
+                    ));
+                }
+                header.complete().map_err(|m| error(Some(line), m))?;
+                columns_seen = true;
+                continue;
+            }
+            if rows.len() == MAX_ROWS {
+                return Err(error(Some(line), format!("more than {MAX_ROWS} data rows")));
+            }
+            let row = parse_row(trimmed, columns, line, header.modes.len(), &mut headings)
+                .map_err(|m| error(Some(line), m))?;
+            rows.push(row);
+        }
+        if !columns_seen {
+            header.complete().map_err(|m| error(None, m))?;
+            return Err(error(
+                None,
+                format!("no column line `{columns}` (and so no data)"),
+            ));
+        }
+        Self::assemble(header, headings, rows, &error)
+    }
+
+    fn assemble(
+        header: Header,
+        headings: Vec<f64>,
+        mut rows: Vec<Row>,
+        error: &dyn Fn(Option<usize>, String) -> WaveError,
+    ) -> Result<Grid, WaveError> {
+        let modes = header.modes;
+        if rows.is_empty() {
+            return Err(error(None, "no data rows".to_string()));
+        }
+        // Headings in ascending order; rows renumbered.
+        let mut order: Vec<usize> = (0..headings.len()).collect();
+        order.sort_by(|&a, &b| headings[a].total_cmp(&headings[b]));
+        let mut rank = vec![0; headings.len()];
+        for (position, &original) in order.iter().enumerate() {
+            rank[original] = position;
+        }
+        let headings: Vec<f64> = order.iter().map(|&i| headings[i]).collect();
+        for row in &mut rows {
+            row.heading = rank[row.heading];
+        }
+        rows.sort_by(|a, b| {
+            a.kr.total_cmp(&b.kr)
+                .then(a.heading.cmp(&b.heading))
+                .then(a.mode.cmp(&b.mode))
+                .then(a.line.cmp(&b.line))
+        });
+        let mut kr: Vec<f64> = Vec::new();
+        for row in &rows {
+            if kr.last() != Some(&row.kr) {
+                if kr.len() == MAX_WAVE_FREQUENCIES {
+                    return Err(error(
+                        Some(row.line),
+                        format!("more than {MAX_WAVE_FREQUENCIES} distinct kR"),
+                    ));
+                }
+                kr.push(row.kr);
+            }
+        }
+        if kr.iter().filter(|&&k| k > 0.0).count() < 2 {
+            return Err(error(
+                None,
+                "fewer than two positive kR: no band to interpolate in".to_string(),
+            ));
+        }
+        let expected = kr.len() * headings.len() * modes.len();
+        if rows.len() > expected {
+            // Some key appears twice: find it.
+            for pair in rows.windows(2) {
+                if pair[0].kr == pair[1].kr
+                    && pair[0].heading == pair[1].heading
+                    && pair[0].mode == pair[1].mode
+                {
+                    return Err(error(
+                        Some(pair[1].line),
+                        format!(
+                            "duplicated row kR = {}, heading = {}, j = {} ({}): first on line {}",
+                            pair[1].kr,
+                            headings[pair[1].heading],
+                            pair[1].mode + 1,
+                            modes[pair[1].mode],
+                            pair[0].line
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut values = vec![Complex64::new(f64::NAN, f64::NAN); expected];
+        let mut filled = vec![false; expected];
+        let mut k = 0;
+        for row in &rows {
+            while kr[k] != row.kr {
+                k += 1;
+            }
+            let slot = (row.heading * modes.len() + row.mode) * kr.len() + k;
+            if filled[slot] {
+                return Err(error(
+                    Some(row.line),
+                    format!(
+                        "duplicated row kR = {}, heading = {}, j = {} ({})",
+                        row.kr,
+                        headings[row.heading],
+                        row.mode + 1,
+                        modes[row.mode]
+                    ),
+                ));
+            }
+            filled[slot] = true;
+            values[slot] = row.value;
+        }
+        if let Some(slot) = filled.iter().position(|&f| !f) {
+            let k = slot % kr.len();
+            let mode = (slot / kr.len()) % modes.len();
+            let heading = slot / (kr.len() * modes.len());
+            return Err(error(
+                None,
+                format!(
+                    "missing row kR = {}, heading = {}, j = {} ({}): every kR and heading \
+                     needs all {} modes",
+                    kr[k],
+                    headings[heading],
+                    mode + 1,
+                    modes[mode],
+                    modes.len()
+                ),
+            ));
+        }
+        Ok(Grid {
+            hull: header.hull,
+            modes,
+            radius: header.radius.unwrap_or(f64::NAN),
+            length_exponents: header.length_exponents,
+            kr,
+            headings,
+            values,
+        })
     }
 }
 
@@ -654,17 +684,20 @@ impl Header {
     }
 }
 
-/// One data row `kR,j,heading,re,im`; new headings are appended to `headings`.
+/// One data row `kR,j,heading,re,im` (or `kR,j,heading,value`: the imaginary part 0); new
+/// headings are appended to `headings`.
 fn parse_row(
     text: &str,
+    columns: &str,
     line: usize,
     modes: usize,
     headings: &mut Vec<f64>,
 ) -> Result<Row, String> {
     let fields: Vec<&str> = text.split(',').map(str::trim).collect();
-    if fields.len() != 5 {
+    let expected = columns.split(',').count();
+    if fields.len() != expected {
         return Err(format!(
-            "{} fields: a row is `{COLUMNS}` (5 fields)",
+            "{} fields: a row is `{columns}` ({expected} fields)",
             fields.len()
         ));
     }
@@ -709,8 +742,11 @@ fn parse_row(
             headings.len() - 1
         }
     };
-    let re = number(3, "re")?;
-    let im = number(4, "im")?;
+    let (re, im) = if expected == 5 {
+        (number(3, "re")?, number(4, "im")?)
+    } else {
+        (number(3, "value")?, 0.0)
+    };
     Ok(Row {
         kr,
         heading,

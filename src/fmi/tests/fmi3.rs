@@ -756,3 +756,73 @@ fn a_call_of_the_other_standard_is_refused_with_a_line_naming_both() {
         ]
     );
 }
+
+#[test]
+fn wave_drift_is_an_int32_and_force_drift_a_float64_of_an_fmu_with_a_drift_table() {
+    use crate::fmu::variables::{Quantity, WaveParameter};
+    use crate::model::drift_tests::TWO_DOF_DRIFT;
+    use crate::model::tests::{TWO_DOF_EXCITATION, TWO_DOF_NETWORK};
+    let fmu = Unpacked::with_files(
+        TWO_DOF_NETWORK,
+        false,
+        "resources",
+        &[
+            (Resources::EXCITATION_FILE, TWO_DOF_EXCITATION),
+            (Resources::DRIFT_FILE, TWO_DOF_DRIFT),
+        ],
+    );
+    let layout = crate::fmu::Layout::new(
+        ["sway", "roll"]
+            .iter()
+            .map(|d| crate::fmu::DofUnit::new(d, 0, false))
+            .collect(),
+        false,
+    )
+    .unwrap()
+    .with_drift()
+    .unwrap();
+    let vr = |q| layout.value_reference(q).unwrap();
+    let drift = vr(Quantity::Wave(WaveParameter::Drift));
+    let parts = [
+        vr(Quantity::ForceRadiation(0)),
+        vr(Quantity::ForceExcitation(0)),
+        vr(Quantity::ForceDrift(0)),
+        vr(Quantity::Force(0)),
+    ];
+    // A regular wave at kR = 0.5 (rho = g = 1, R = 2 m): the table's sway drift 0.3 kR.
+    let (height, omega) = (1.5, 0.5);
+    let log3 = Log3::default();
+    let c = instantiate3(&fmu, &fmu.guid, &log3);
+    assert!(!c.is_null(), "{:?}", log3.lock().unwrap());
+    // SAFETY: see the module docs.
+    unsafe {
+        set3(c, &[VR_RHO, VR_G], &[1.0, 1.0]);
+        let kind = crate::fmu::description::VR_WAVE_KIND;
+        assert_eq!(fmi3SetInt32(c, &kind, 1, &1, 1), fmi3OK);
+        let wave = [
+            crate::fmu::description::VR_WAVE_HEIGHT,
+            crate::fmu::description::VR_WAVE_PERIOD,
+        ];
+        set3(c, &wave, &[height, 2.0 * std::f64::consts::PI / omega]);
+        assert_eq!(fmi3SetInt32(c, &drift, 1, &1, 1), fmi3OK);
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+        assert_eq!(fmi3ExitInitializationMode(c), fmi3OK);
+        let mut code = -1;
+        assert_eq!(fmi3GetInt32(c, &drift, 1, &mut code, 1), fmi3OK);
+        assert_eq!(code, 1);
+        let (status, values) = get3(c, &parts, 4);
+        assert_eq!(status, fmi3OK);
+        let expected = 0.75 * 0.75 * 0.3 * 0.5;
+        assert!(
+            (values[2] - expected).abs() <= 1e-12 * expected,
+            "{values:?}"
+        );
+        assert_eq!(values[3], values[0] + values[1] + values[2]);
+        fmi3FreeInstance(c);
+    }
+    assert!(
+        log3.lock().unwrap().is_empty(),
+        "{:?}",
+        log3.lock().unwrap()
+    );
+}

@@ -29,6 +29,7 @@ fn hull() -> Body {
         extent: Extent::PerUnitLength,
         hydrostatics_csv: None,
         excitation_csv: None,
+        drift_csv: None,
         report: None,
     }
 }
