@@ -16,8 +16,8 @@
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::Hull;
 use hydrofmu::motion::{Floating, MassProperties};
-use nalgebra::DMatrix;
 use hydrofmu::sweep::{self, SweepParams, SweepResult};
+use nalgebra::DMatrix;
 use std::fmt::Write as _;
 use std::time::Instant;
 

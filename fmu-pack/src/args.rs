@@ -253,6 +253,11 @@ pub struct PackArgs {
     /// Keep A_inf inside the FMU: acceleration inputs, force includes -A_inf a.
     #[arg(long)]
     pub keep_inf_mass: bool,
+    /// Give the FMU the mean wave drift (docs/DRIFT.md): parameter `wave.drift` (0 none, 1
+    /// mean, 2 slow drift by Newman's approximation) and outputs `force_drift.<dof>`. A
+    /// section's fixed drift from its sweep; an imported database's from NAME.8 or NAME.9.
+    #[arg(long)]
+    pub drift: bool,
     /// Output archive (.fmu).
     #[arg(short = 'o', long)]
     pub output: PathBuf,

@@ -168,7 +168,22 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
              narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
         )));
     }
-    let body = Body::whole(&fitted.database, None)?;
+    let mut body = Body::whole(&fitted.database, None)?;
+    if args.drift {
+        if fitted.database.drift.is_empty() {
+            return Err(PackError(format!(
+                "--drift: {} has no mean drift (an imported WAMIT NAME.1 takes it from NAME.8 or \
+                 NAME.9 beside it; a ship's is not computed yet)",
+                fitted.database.name
+            )));
+        }
+        let mut text = Vec::new();
+        fitted
+            .database
+            .write_drift_table(&mut text)
+            .map_err(|e| PackError(format!("cannot format the drift table: {e}")))?;
+        body.drift_csv = Some(String::from_utf8_lossy(&text).into_owned());
+    }
     let binary = locate_binary(args.binary.as_deref())?;
     let identifier = match &args.model_identifier {
         Some(id) => id.clone(),

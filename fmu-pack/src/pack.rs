@@ -91,7 +91,14 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         output: &args.output,
         fmi: args.fmi,
     };
-    pack_network(hull, network, args.keep_inf_mass, &target, report.as_ref())
+    pack_network(
+        hull,
+        network,
+        args.keep_inf_mass,
+        &target,
+        report.as_ref(),
+        args.drift,
+    )
 }
 
 /// Why a fit that misses its tolerance is not packed, and what to do.

@@ -118,7 +118,7 @@ impl fmt::Display for PackSummary {
 }
 
 /// Packs a network for a body into `target.output` (the lower-level entry point): the
-/// section's exciting force from the fit's sweep, the scene report, the fit report and its
+/// section's exciting force (and with `drift` its mean drift table) from the fit's sweep, the scene report, the fit report and its
 /// figures when a scene computed the network; the archive and its OSP description written
 /// together, or neither.
 pub fn pack_network(
@@ -127,12 +127,26 @@ pub fn pack_network(
     keep_inf_mass: bool,
     target: &Target,
     fit: Option<&Fitted>,
+    drift: bool,
 ) -> Result<PackSummary, PackError> {
     refuse_standard_output(target.output)?;
     // A network packed from a file has no sweep: its FMU models calm water only.
     let body = match fit {
         Some(fitted) => {
-            body.with_sweep_excitation(&fitted.built.sweep, &network.network().dof_names)?
+            let names = &network.network().dof_names;
+            let body = body.with_sweep_excitation(&fitted.built.sweep, names)?;
+            if drift {
+                body.with_sweep_drift(&fitted.built.sweep, names)?
+            } else {
+                body
+            }
+        }
+        None if drift => {
+            return Err(PackError(
+                "--drift: a network packed from a file has no sweep, so no drift table; pack \
+                 the hull without --network"
+                    .into(),
+            ))
         }
         None => body,
     };
@@ -357,7 +371,7 @@ mod tests {
             output: &out,
             fmi: FmiVersion::V3,
         };
-        let summary = pack_network(hull(), net(), false, &target, None).unwrap();
+        let summary = pack_network(hull(), net(), false, &target, None, false).unwrap();
         assert_eq!(summary.dofs, vec!["sway".to_string()]);
         let found = inspect(&out).unwrap();
         assert_eq!(found.guid, summary.guid);
@@ -384,7 +398,7 @@ mod tests {
                 output,
                 fmi: FmiVersion::V2,
             };
-            pack_network(hull(), net(), false, &target, None).unwrap_err()
+            pack_network(hull(), net(), false, &target, None, false).unwrap_err()
         };
         let e = to(&dir.join("missing.so"), &out);
         assert!(e.0.contains("cannot read the binary"), "{e}");

@@ -308,3 +308,67 @@ fn unwritable_export_paths_are_named() {
     assert!(!csv.exists(), "no table written");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn pack_drift_takes_an_imported_drift_and_refuses_without_one() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-db-drift-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let prefix = dir.join("slice");
+    // A section's 1 m slice as WAMIT files, its fixed drift in slice.9.
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        "semicircle",
+        "--dofs",
+        "sway,heave,roll",
+        "--panels",
+        "32",
+        "--kr",
+        "0.05:5:40",
+        "-o",
+        dir.join("t.csv").to_str().unwrap(),
+        "--wamit",
+        prefix.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(dir.join("slice.9").is_file());
+    let binary = dir.join("libstand-in.so");
+    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let pack = |name: &str| {
+        let archive = dir.join(name);
+        let out = fmu_pack(&[
+            "pack",
+            dir.join("slice.1").to_str().unwrap(),
+            "--drift",
+            "--allow-tolerance-miss",
+            "--binary",
+            binary.to_str().unwrap(),
+            "-o",
+            archive.to_str().unwrap(),
+        ]);
+        (archive, out)
+    };
+    let (archive, (ok, _, err)) = pack("Slice.fmu");
+    assert!(ok, "{err}");
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(&archive).unwrap()).unwrap();
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("resources/drift.csv").unwrap(), &mut text)
+        .unwrap();
+    assert!(text.contains("\nkR,j,heading,value\n"), "{text}");
+    let mut description = String::new();
+    std::io::Read::read_to_string(
+        &mut zip.by_name("modelDescription.xml").unwrap(),
+        &mut description,
+    )
+    .unwrap();
+    assert!(description.contains("name=\"wave.drift\""));
+    assert!(description.contains("name=\"force_drift.sway\""));
+    // Without the drift file: refused, saying where the drift comes from.
+    std::fs::remove_file(dir.join("slice.9")).unwrap();
+    let (_, (ok, _, err)) = pack("Again.fmu");
+    assert!(
+        !ok && err.contains("--drift: slice has no mean drift"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
