@@ -142,6 +142,13 @@ fn main() {
          Moorings with a negative diagonal entry, or damping whose symmetric part has a negative \
          eigenvalue, are refused.\n"
     );
+    let _ = writeln!(
+        doc,
+        "In the FMU (`fmu-pack pack --drift`): `wave.drift` 1 adds the mean drift \
+         `r^2 sum_n a_n^2 D(omega_n)` of the sea's components, 2 Newman's slow drift \
+         `r^2 Re[P conj Q]`, in `force_drift.<dof>` and `force.<dof>` (docs/WAVES.md, \"Drift in \
+         the FMU\": the equations, the JONSWAP mean and variance checks, the cost).\n"
+    );
 
     // 1. The semicircle: two methods, the energy identity, the limits.
     let semicircle = Hull::semicircle(1.0).expect("semicircle");
