@@ -233,7 +233,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 logMessage,
                 instanceEnvironment,
                 "fmi3InstantiateCoSimulation",
-                message,
+                message.to_string(),
             ),
         }
     }));

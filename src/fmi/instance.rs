@@ -18,13 +18,15 @@ use super::types::{
     fmi2Boolean, fmi2CoSimulation, fmi2Integer, fmi2LastSuccessfulTime, fmi2StatusKind,
     fmi2Terminated, fmi2Type, fmi2ValueReference, Status,
 };
-use super::uri::resource_path;
+use super::uri::{resource_path, ResourceLocationError};
 use crate::fmu::description::{MAX_OUTPUT_DERIVATIVE_ORDER, PARAMETERS};
-use crate::fmu::{DofUnit, Layout, Quantity};
-use crate::model::{Model, ModelState, Resources};
+use crate::fmu::{DofUnit, Layout, Quantity, ResourcesError, VariablesError};
+use crate::model::{Model, ModelError, ModelState, Resources};
 use references::StepReferences;
 use std::collections::HashSet;
 use std::ffi::{CStr, CString};
+use std::fmt;
+use std::path::PathBuf;
 
 /// One FMU instance (behind an `fmi2Component`).
 pub struct Instance {
@@ -85,6 +87,88 @@ fn no_variables(kind: &str, vr: &[fmi2ValueReference]) -> Outcome {
     }
 }
 
+/// Why an instance could not be made: the message the C layer logs with the function's name.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum InstantiateError {
+    /// An argument is NULL, empty or not UTF-8 (its description).
+    Argument(&'static str),
+    /// `fmuType` is not co-simulation.
+    NotCoSimulation(fmi2Type),
+    /// The resource location is not a local `file:` URI.
+    ResourceLocation(ResourceLocationError),
+    /// The resources cannot be read.
+    Resources(ResourcesError),
+    /// The GUID (or FMI 3.0 instantiation token) is not the resources'.
+    Guid {
+        /// `fmuGUID` or `instantiationToken`.
+        argument: &'static str,
+        /// What the master gave.
+        given: String,
+        /// The resources' own.
+        expected: String,
+        /// The resources' folder.
+        folder: PathBuf,
+    },
+    /// The model described by the resources is refused.
+    Model(ModelError),
+    /// Its variables cannot be laid out.
+    Variables(VariablesError),
+}
+
+impl fmt::Display for InstantiateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            InstantiateError::Argument(what) => f.write_str(what),
+            InstantiateError::NotCoSimulation(kind) => {
+                write!(f, "fmuType {kind}: this FMU supports co-simulation only")
+            }
+            InstantiateError::ResourceLocation(e) => e.fmt(f),
+            InstantiateError::Resources(e) => e.fmt(f),
+            InstantiateError::Guid {
+                argument: "fmuGUID",
+                given,
+                expected,
+                folder,
+            } => write!(
+                f,
+                "GUID {given} does not match the resources in {} (GUID {expected})",
+                folder.display()
+            ),
+            InstantiateError::Guid {
+                argument,
+                given,
+                expected,
+                folder,
+            } => write!(
+                f,
+                "{argument} {given} does not match the resources in {} ({expected})",
+                folder.display()
+            ),
+            InstantiateError::Model(e) => e.fmt(f),
+            InstantiateError::Variables(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for InstantiateError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            InstantiateError::ResourceLocation(e) => Some(e),
+            InstantiateError::Resources(e) => Some(e),
+            InstantiateError::Model(e) => Some(e),
+            InstantiateError::Variables(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<ResourceLocationError> for InstantiateError {
+    fn from(e: ResourceLocationError) -> Self {
+        InstantiateError::ResourceLocation(e)
+    }
+}
+
 impl Instance {
     /// fmi2Instantiate: checks the arguments, reads the resources the URI names and checks
     /// the GUID against them (the GUID derived from the resources, [`Resources::guid`]).
@@ -94,25 +178,27 @@ impl Instance {
         guid: Option<&str>,
         resource_location: Option<&str>,
         logging_on: bool,
-    ) -> Result<Instance, String> {
+    ) -> Result<Instance, InstantiateError> {
         let name = name
             .filter(|n| !n.to_bytes().is_empty())
-            .ok_or("instanceName is NULL or empty")?;
+            .ok_or(InstantiateError::Argument("instanceName is NULL or empty"))?;
         if fmu_type != fmi2CoSimulation {
-            return Err(format!(
-                "fmuType {fmu_type}: this FMU supports co-simulation only"
-            ));
+            return Err(InstantiateError::NotCoSimulation(fmu_type));
         }
-        let location = resource_location.ok_or("fmuResourceLocation is NULL or not UTF-8")?;
+        let location = resource_location.ok_or(InstantiateError::Argument(
+            "fmuResourceLocation is NULL or not UTF-8",
+        ))?;
         let dir = resource_path(location)?;
-        let resources = Resources::read(&dir).map_err(|e| e.to_string())?;
+        let resources = Resources::read(&dir).map_err(InstantiateError::Resources)?;
         let expected = resources.guid();
-        let guid = guid.ok_or("fmuGUID is NULL or not UTF-8")?;
+        let guid = guid.ok_or(InstantiateError::Argument("fmuGUID is NULL or not UTF-8"))?;
         if guid != expected {
-            return Err(format!(
-                "GUID {guid} does not match the resources in {} (GUID {expected})",
-                dir.display()
-            ));
+            return Err(InstantiateError::Guid {
+                argument: "fmuGUID",
+                given: guid.to_string(),
+                expected,
+                folder: dir,
+            });
         }
         Instance::from_resources(name, &resources, logging_on)
     }
@@ -122,16 +208,17 @@ impl Instance {
         name: &CStr,
         resources: &Resources,
         logging_on: bool,
-    ) -> Result<Instance, String> {
-        let model = Model::from_resources(resources).map_err(|e| e.to_string())?;
+    ) -> Result<Instance, InstantiateError> {
+        let model = Model::from_resources(resources).map_err(InstantiateError::Model)?;
         let dofs = model
             .dof_names()
             .iter()
             .map(|n| DofUnit::new(n, 0, false))
             .collect();
-        let mut layout = Layout::new(dofs, resources.keep_inf_mass).map_err(|e| e.to_string())?;
+        let mut layout =
+            Layout::new(dofs, resources.keep_inf_mass).map_err(InstantiateError::Variables)?;
         if model.drift_table().is_some() {
-            layout = layout.with_drift().map_err(|e| e.to_string())?;
+            layout = layout.with_drift().map_err(InstantiateError::Variables)?;
         }
         let mut instance = Instance {
             name: name.to_owned(),

@@ -70,7 +70,7 @@ mod uri;
 
 pub use fmi2::*;
 pub use fmi3::*;
-pub use instance::{Instance, Snapshot};
+pub use instance::{Instance, InstantiateError, Snapshot};
 pub use logging::{Category, Message};
 pub use phase::{allowed, Function, Phase, PhaseSet, Standard};
 pub use types::*;

@@ -6,7 +6,7 @@
 //! co-simulation without event mode has the same state machine (its "Step Mode" is FMI 2.0's
 //! "stepComplete").
 
-use super::{same_length, Instance};
+use super::{same_length, Instance, InstantiateError};
 use crate::fmi::logging::Category;
 use crate::fmi::phase::{Function, Standard};
 use crate::fmi::types::Status;
@@ -23,25 +23,31 @@ impl Instance {
         token: Option<&str>,
         resource_dir: Option<&str>,
         logging_on: bool,
-    ) -> Result<Instance, String> {
+    ) -> Result<Instance, InstantiateError> {
         let name = name
             .filter(|n| !n.to_bytes().is_empty())
-            .ok_or("instanceName is NULL or empty")?;
-        let dir = resource_dir.ok_or("resourcePath is NULL or not UTF-8")?;
+            .ok_or(InstantiateError::Argument("instanceName is NULL or empty"))?;
+        let dir = resource_dir.ok_or(InstantiateError::Argument(
+            "resourcePath is NULL or not UTF-8",
+        ))?;
         // A file: URI is accepted too (some importers pass one).
         let dir = if dir.starts_with("file:") {
             crate::fmi::resource_path(dir)?
         } else {
             Path::new(dir).to_path_buf()
         };
-        let resources = Resources::read(&dir).map_err(|e| e.to_string())?;
+        let resources = Resources::read(&dir).map_err(InstantiateError::Resources)?;
         let expected = resources.guid();
-        let token = token.ok_or("instantiationToken is NULL or not UTF-8")?;
+        let token = token.ok_or(InstantiateError::Argument(
+            "instantiationToken is NULL or not UTF-8",
+        ))?;
         if token != expected {
-            return Err(format!(
-                "instantiationToken {token} does not match the resources in {} ({expected})",
-                dir.display()
-            ));
+            return Err(InstantiateError::Guid {
+                argument: "instantiationToken",
+                given: token.to_string(),
+                expected,
+                folder: dir,
+            });
         }
         let mut instance = Instance::from_resources(name, &resources, logging_on)?;
         instance.standard = Standard::Fmi3;

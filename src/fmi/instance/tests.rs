@@ -363,8 +363,30 @@ fn instantiation_checks_name_type_and_location() {
         let error = Instance::instantiate(name, kind, Some("{guid}"), location, false)
             .err()
             .unwrap();
-        assert!(error.contains(why), "{error}");
+        assert!(error.to_string().contains(why), "{error}");
     }
+    // The cause travels with the error.
+    let error = Instance::instantiate(
+        Some(c"a"),
+        fmi2CoSimulation,
+        None,
+        Some("file://h/x"),
+        false,
+    )
+    .err()
+    .unwrap();
+    assert!(
+        matches!(error, InstantiateError::ResourceLocation(_)),
+        "{error}"
+    );
+    assert!(std::error::Error::source(&error).is_some());
+    let error = Instance::instantiate(Some(c"a"), fmi2ModelExchange, None, None, false)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(error, InstantiateError::NotCoSimulation(_)),
+        "{error}"
+    );
 }
 
 #[test]
