@@ -68,8 +68,10 @@
 //! ([`Hydrostatics`]), and [`waves`] the incident sea and its exciting force in the time domain,
 //! from the exciting forces the sweep computes with the added mass. [`passivity`] checks a
 //! network's passivity. A section's mean wave drift comes with every wave solve
-//! ([`bem::Drift`]: far field and pressure integration, fixed section), and [`motion`] gives a
-//! floating section's rigid motion in regular waves from its mass properties.
+//! ([`bem::Drift`]: far field and pressure integration, fixed section), [`motion`] gives a
+//! floating section's rigid motion in regular waves from its mass properties (and with it the
+//! floating sway drift), and the FMU adds the mean or slow drift force of its sea
+//! ([`waves::DriftTable`]) from a section's or an imported database's drift table.
 //!
 //! [`scene`] drives hull to identify for one hull, DOF set and band ([`Scene`], [`Band`],
 //! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID, the archive) and
