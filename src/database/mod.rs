@@ -187,21 +187,7 @@ impl Database {
     /// The writer's.
     pub fn write_excitation_table(&self, out: &mut dyn Write) -> std::io::Result<()> {
         let r = self.reference_length;
-        writeln!(out, "# hull: {}", self.name)?;
-        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
-        writeln!(out, "# convention: exp(+i omega t)")?;
-        writeln!(out, "# R: {r} m")?;
-        let exponents: Vec<String> = self
-            .dof_units
-            .iter()
-            .map(|u| u.length_exponent.to_string())
-            .collect();
-        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
-        writeln!(
-            out,
-            "# values: X_j / (rho g a R^(1 + e_j)), a the wave amplitude; whole body, {}",
-            self.source
-        )?;
+        self.fmu_table_header(out, "X_j / (rho g a R^(1 + e_j)), a the wave amplitude")?;
         let scale: Vec<f64> = self
             .dof_units
             .iter()
@@ -230,20 +216,9 @@ impl Database {
     /// The writer's.
     pub fn write_drift_table(&self, out: &mut dyn Write) -> std::io::Result<()> {
         let r = self.reference_length;
-        writeln!(out, "# hull: {}", self.name)?;
-        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
-        writeln!(out, "# convention: exp(+i omega t)")?;
-        writeln!(out, "# R: {r} m")?;
-        let exponents: Vec<String> = self
-            .dof_units
-            .iter()
-            .map(|u| u.length_exponent.to_string())
-            .collect();
-        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
-        writeln!(
+        self.fmu_table_header(
             out,
-            "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a; whole body, {}",
-            self.source
+            "D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a",
         )?;
         writeln!(out, "kR,j,heading,value")?;
         let number = |x: f64| format_number(x, Notation::Scientific);
@@ -264,6 +239,22 @@ impl Database {
             }
         }
         Ok(())
+    }
+
+    /// The header of a table the FMU reads (excitation, drift): hull, modes, convention, R,
+    /// length exponents, and what the values are (`values`; whole body, the source).
+    fn fmu_table_header(&self, out: &mut dyn Write, values: &str) -> std::io::Result<()> {
+        writeln!(out, "# hull: {}", self.name)?;
+        writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
+        writeln!(out, "# convention: exp(+i omega t)")?;
+        writeln!(out, "# R: {} m", self.reference_length)?;
+        let exponents: Vec<String> = self
+            .dof_units
+            .iter()
+            .map(|u| u.length_exponent.to_string())
+            .collect();
+        writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(out, "# values: {values}; whole body, {}", self.source)
     }
 
     fn header(&self, out: &mut dyn Write) -> std::io::Result<()> {

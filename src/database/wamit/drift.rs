@@ -227,25 +227,7 @@ fn read_file(
             .entry(mode)
             .or_insert_with(|| DMatrix::zeros(omega.len(), h))[(k, b)] = re * scale(mode);
     }
-    if !foreign.is_empty() {
-        let list: Vec<String> = foreign.iter().map(|m| mode_name(*m)).collect();
-        notes.push(format!(
-            "{}: the mean drift of {} is left out: the radiation file has no such mode",
-            source.name,
-            list.join(", ")
-        ));
-    }
-    if !unmatched.is_empty() {
-        let list: Vec<String> = unmatched
-            .iter()
-            .map(|b| f64::from_bits(*b).to_string())
-            .collect();
-        notes.push(format!(
-            "{}: rows at PER {} left out: the radiation file has no such frequency",
-            source.name,
-            list.join(", ")
-        ));
-    }
+    super::note_left_out(notes, source.name, "the mean drift", &foreign, &unmatched);
     for &mode in values.keys() {
         let holes = (0..omega.len())
             .flat_map(|k| (0..h).map(move |b| (k, b)))

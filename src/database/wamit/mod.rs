@@ -598,6 +598,35 @@ fn read_hydrostatics(
 
 /// The excitation rows on the radiation file's frequencies: headings (ascending), one matrix
 /// (modes x headings) per frequency, and which frequencies have every entry.
+/// Notes of the rows a companion file (`.3`, `.8`, `.9`) of `file` holds that the radiation
+/// file has no place for: modes it lacks (`what` of them left out) and periods it lacks (their
+/// bits).
+fn note_left_out(
+    notes: &mut Vec<String>,
+    file: &str,
+    what: &str,
+    foreign_modes: &BTreeSet<usize>,
+    unmatched_periods: &BTreeSet<u64>,
+) {
+    if !foreign_modes.is_empty() {
+        let list: Vec<String> = foreign_modes.iter().map(|m| mode_name(*m)).collect();
+        notes.push(format!(
+            "{file}: {what} of {} is left out: the radiation file has no such mode",
+            list.join(", ")
+        ));
+    }
+    if !unmatched_periods.is_empty() {
+        let list: Vec<String> = unmatched_periods
+            .iter()
+            .map(|b| f64::from_bits(*b).to_string())
+            .collect();
+        notes.push(format!(
+            "{file}: rows at PER {} left out: the radiation file has no such frequency",
+            list.join(", ")
+        ));
+    }
+}
+
 #[allow(clippy::type_complexity)]
 fn read_excitation(
     source: Source,
@@ -713,25 +742,13 @@ fn read_excitation(
         excitation[k][(p, b)] =
             value * (params.rho * params.g * l.powi(2 + i32::from(length_exponent(mode))));
     }
-    if !foreign_modes.is_empty() {
-        let list: Vec<String> = foreign_modes.iter().map(|m| mode_name(*m)).collect();
-        notes.push(format!(
-            "{}: the exciting force of {} is left out: the radiation file has no such mode",
-            source.name,
-            list.join(", ")
-        ));
-    }
-    if !unmatched.is_empty() {
-        let list: Vec<String> = unmatched
-            .iter()
-            .map(|b| f64::from_bits(*b).to_string())
-            .collect();
-        notes.push(format!(
-            "{}: rows at PER {} left out: the radiation file has no such frequency",
-            source.name,
-            list.join(", ")
-        ));
-    }
+    note_left_out(
+        notes,
+        source.name,
+        "the exciting force",
+        &foreign_modes,
+        &unmatched,
+    );
     let full = n * h;
     let kept: Vec<bool> = (0..omega.len())
         .map(|k| (0..h).all(|b| (0..n).all(|p| seen.contains_key(&(k, b, p)))))
