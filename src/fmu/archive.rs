@@ -214,13 +214,7 @@ impl Body {
         sweep: &SweepResult,
         names: &[String],
     ) -> Result<Body, ArchiveError> {
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let sweep = sweep.select_dofs(&names).ok_or_else(|| {
-            format!(
-                "the sweep has no exciting force for the DOFs {}",
-                names.join(" ")
-            )
-        })?;
+        let sweep = sweep_of(sweep, names)?;
         let mut text = Vec::new();
         sweep
             .write_excitation_csv(&mut text, ExcitationPart::Total)
@@ -236,13 +230,7 @@ impl Body {
         sweep: &SweepResult,
         names: &[String],
     ) -> Result<Body, ArchiveError> {
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let sweep = sweep.select_dofs(&names).ok_or_else(|| {
-            format!(
-                "the sweep has no exciting force for the DOFs {}",
-                names.join(" ")
-            )
-        })?;
+        let sweep = sweep_of(sweep, names)?;
         if sweep.excitation.iter().all(|forces| forces.drift.is_none()) {
             return Err("the sweep has no drift force (no frequency solved with it)"
                 .to_string()
@@ -255,6 +243,18 @@ impl Body {
         self.drift_csv = Some(String::from_utf8_lossy(&text).into_owned());
         Ok(self)
     }
+}
+
+/// `sweep` restricted to the DOFs `names` (those of the network).
+fn sweep_of(sweep: &SweepResult, names: &[String]) -> Result<SweepResult, ArchiveError> {
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    sweep.select_dofs(&names).ok_or_else(|| {
+        format!(
+            "the sweep has no exciting force for the DOFs {}",
+            names.join(" ")
+        )
+        .into()
+    })
 }
 
 /// The network to pack and the text of its `resources/network.xml`.

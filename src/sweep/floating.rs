@@ -144,14 +144,6 @@ impl SweepResult {
         }
         Ok(())
     }
-
-    /// `R^e_j` of every DOF.
-    fn length_scales(&self) -> Vec<f64> {
-        self.length_exponents
-            .iter()
-            .map(|&e| self.reference_half_beam.powi(i32::from(e)))
-            .collect()
-    }
 }
 
 #[cfg(test)]

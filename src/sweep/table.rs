@@ -199,11 +199,7 @@ impl SweepResult {
         )?;
         self.write_notes(out)?;
         writeln!(out, "kR,j,heading,value")?;
-        let scale: Vec<f64> = self
-            .length_exponents
-            .iter()
-            .map(|&e| self.reference_half_beam.powi(i32::from(e)))
-            .collect();
+        let scale = self.length_scales();
         for (kr, drift) in drifts {
             let values = drift.mean_drift();
             for (h, heading) in HEADINGS.iter().enumerate().take(values.ncols()) {
@@ -218,6 +214,14 @@ impl SweepResult {
             }
         }
         Ok(())
+    }
+
+    /// `R^e_j` of every DOF.
+    pub(super) fn length_scales(&self) -> Vec<f64> {
+        self.length_exponents
+            .iter()
+            .map(|&e| self.reference_half_beam.powi(i32::from(e)))
+            .collect()
     }
 
     /// [`Self::write_header`], then the DOFs' length exponents (excitation and drift tables).

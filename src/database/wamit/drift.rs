@@ -19,8 +19,8 @@
 //! database keeps its first-order coefficients.
 
 use super::rows::Rows;
+use super::MODULUS_AGREEMENT;
 use super::{length_exponent, mode_name, DatabaseError, Frequency, Source, WamitParams};
-use super::{MATCHING_FREQUENCY, MODULUS_AGREEMENT};
 use crate::database::Database;
 use nalgebra::DMatrix;
 use std::collections::{BTreeMap, BTreeSet};
@@ -202,10 +202,7 @@ fn read_file(
     let mut seen: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
     let (mut unmatched, mut foreign) = (BTreeSet::new(), BTreeSet::new());
     for (line, per, w, beta, mode, re) in parsed {
-        let k = omega.partition_point(|x| *x < w * (1.0 - MATCHING_FREQUENCY));
-        let Some(k) =
-            (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
-        else {
+        let Some(k) = super::matching_frequency(omega, w) else {
             unmatched.insert(per.to_bits());
             continue;
         };

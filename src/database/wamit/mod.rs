@@ -598,6 +598,13 @@ fn read_hydrostatics(
 
 /// The excitation rows on the radiation file's frequencies: headings (ascending), one matrix
 /// (modes x headings) per frequency, and which frequencies have every entry.
+/// The index of the radiation file's frequency `w` matches within the files' digits
+/// ([`MATCHING_FREQUENCY`]); `omega` ascending.
+fn matching_frequency(omega: &[f64], w: f64) -> Option<usize> {
+    let k = omega.partition_point(|x| *x < w * (1.0 - MATCHING_FREQUENCY));
+    (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
+}
+
 /// Notes of the rows a companion file (`.3`, `.8`, `.9`) of `file` holds that the radiation
 /// file has no place for: modes it lacks (`what` of them left out) and periods it lacks (their
 /// bits).
@@ -713,10 +720,7 @@ fn read_excitation(
     let l = params.length_scale;
     for (line, per, w, beta, mode, value) in parsed {
         // The radiation frequency this row belongs to, within the files' digits.
-        let k = omega.partition_point(|x| *x < w * (1.0 - MATCHING_FREQUENCY));
-        let Some(k) =
-            (k < omega.len() && (omega[k] - w).abs() <= MATCHING_FREQUENCY * w).then_some(k)
-        else {
+        let Some(k) = matching_frequency(omega, w) else {
             unmatched.insert(per.to_bits());
             continue;
         };
