@@ -59,6 +59,7 @@ impl Hull {
             },
             dofs,
             notes: Vec::new(),
+            mass: None,
         })
     }
 
@@ -87,6 +88,7 @@ impl Hull {
                 rigid("roll", RigidKind::Roll),
             ],
             notes: Vec::new(),
+            mass: None,
         })
     }
 
@@ -124,6 +126,7 @@ impl Hull {
                 rigid("roll", RigidKind::Roll),
             ],
             notes: Vec::new(),
+            mass: None,
         })
     }
 }

@@ -50,6 +50,7 @@ impl Hull {
     pub fn geometry_fingerprint(&self) -> String {
         let unnamed = Hull {
             name: String::new(),
+            mass: None,
             ..self.clone()
         };
         fnv1a(&unnamed.to_xml_string())
@@ -112,6 +113,9 @@ impl Hull {
                     out.push_str("  </mode>\n");
                 }
             }
+        }
+        if let Some(mass) = &self.mass {
+            out.push_str(&mass.to_xml(num));
         }
         out.push_str("</hull>\n");
         out
@@ -250,6 +254,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
 
     let mut geometry: Option<Geometry> = None;
     let mut dofs: Vec<FileDof> = Vec::new();
+    let mut mass_element: Option<&Element> = None;
     for child in &root.children {
         let line = child.line;
         if matches!(child.name.as_str(), "contour" | "circle" | "lewis") {
@@ -423,12 +428,24 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                     line,
                 });
             }
+            "mass" => {
+                if let Some(first) = mass_element {
+                    return Err(err(
+                        line,
+                        format!(
+                            "second <mass>: the mass properties are already given on line {}",
+                            first.line
+                        ),
+                    ));
+                }
+                mass_element = Some(child);
+            }
             other => {
                 return Err(err(
                     line,
                     format!(
                         "unknown element <{other}> in <hull>; expected contour, circle, lewis, \
-                         rigid, craig_bampton or mode"
+                         rigid, craig_bampton, mode or mass"
                     ),
                 ))
             }
@@ -470,6 +487,15 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
         .map_err(|m| err(geometry_line, m))?;
         check_half_beam_ratio(half_beam, size).map_err(|m| err(root.line, m))?;
     }
+    let rigid: Vec<&str> = dofs
+        .iter()
+        .filter(|d| matches!(d.field, FileField::Rigid(..)))
+        .map(|d| d.name.as_str())
+        .collect();
+    let mass = mass_element
+        .map(|element| super::mass::parse(element, &rigid))
+        .transpose()
+        .map_err(at)?;
     let mut notes = Vec::new();
     let (contour, order) = match geometry {
         Geometry::Circle { radius, depth, .. } => {
@@ -611,6 +637,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
         contour,
         dofs,
         notes,
+        mass,
     })
 }
 

@@ -49,6 +49,8 @@ mod craig_bampton;
 mod file;
 pub(crate) use file::{valid_dof_name, valid_hull_name};
 mod lewis;
+mod mass;
+pub use mass::{HullMass, Mooring, SectionMass};
 mod units;
 mod validate;
 
@@ -224,6 +226,8 @@ pub struct Hull {
     contour: Contour,
     dofs: Vec<Dof>,
     notes: Vec<String>,
+    /// The file's `<mass>`: the section floats (absent: held fixed).
+    mass: Option<HullMass>,
 }
 
 fn rigid_displacement(kind: RigidKind, reference: Point, p: Point) -> Point {
@@ -251,6 +255,30 @@ impl Hull {
             Contour::Arc { depth, .. } => *depth > 0.0,
             Contour::Lewis(_) => false,
             Contour::Polyline { closed, .. } => *closed,
+        }
+    }
+
+    /// The mass properties of the hull file's `<mass>` element, if it has one: with them the
+    /// section floats ([`HullMass::properties`], [`crate::motion`]).
+    pub fn mass(&self) -> Option<&HullMass> {
+        self.mass.as_ref()
+    }
+
+    /// This hull with the DOFs `dofs` (a subset of its own); the moorings of DOFs left out go.
+    fn with_dofs(&self, dofs: Vec<Dof>) -> Hull {
+        let mass = self.mass.as_ref().map(|m| HullMass {
+            mooring: m
+                .mooring
+                .iter()
+                .filter(|r| dofs.iter().any(|d| d.name == r.dof))
+                .cloned()
+                .collect(),
+            ..m.clone()
+        });
+        Hull {
+            dofs,
+            mass,
+            ..self.clone()
         }
     }
 
@@ -329,10 +357,7 @@ impl Hull {
                 }
             }
         }
-        Ok(Hull {
-            dofs,
-            ..self.clone()
-        })
+        Ok(self.with_dofs(dofs))
     }
 
     /// A hull with only the DOFs named, in the order given. An unknown or repeated name, or an
@@ -366,10 +391,7 @@ impl Hull {
                 }
             }
         }
-        Ok(Hull {
-            dofs,
-            ..self.clone()
-        })
+        Ok(self.with_dofs(dofs))
     }
 
     /// Total arc length of the contour (closed: once around), metres.

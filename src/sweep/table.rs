@@ -198,10 +198,38 @@ impl SweepResult {
             "# energy, |R|^2 + |T|^2 - 1 of the fixed section (max over kR of its magnitude): {energy:.2e}"
         )?;
         self.write_notes(out)?;
+        self.write_drift_rows(out, drifts.iter().map(|(kr, d)| (*kr, d.mean_drift())))
+    }
+
+    /// Writes the drift table of a body described by `body` (after `# body: `) with `values`
+    /// `(kR, D)`, `D` per `rho g a^2` in SI of each DOF (DOFs x headings 0 and 180): the header
+    /// of [`SweepResult::write_drift_csv`] without its fixed-section checks, the notes, then the
+    /// rows.
+    pub fn write_drift_values(
+        &self,
+        out: &mut dyn Write,
+        body: &str,
+        values: &[(f64, DMatrix<f64>)],
+    ) -> std::io::Result<()> {
+        self.write_header_with_exponents(out)?;
+        writeln!(
+            out,
+            "# values: D_j / (rho g R^e_j), a^2 D_j the mean force of a regular wave of amplitude a"
+        )?;
+        writeln!(out, "# body: {body}")?;
+        self.write_notes(out)?;
+        self.write_drift_rows(out, values.iter().cloned())
+    }
+
+    /// The column line and the rows `kR,j,heading,value` of `(kR, D)`.
+    fn write_drift_rows(
+        &self,
+        out: &mut dyn Write,
+        rows: impl Iterator<Item = (f64, DMatrix<f64>)>,
+    ) -> std::io::Result<()> {
         writeln!(out, "kR,j,heading,value")?;
         let scale = self.length_scales();
-        for (kr, drift) in drifts {
-            let values = drift.mean_drift();
+        for (kr, values) in rows {
             for (h, heading) in HEADINGS.iter().enumerate().take(values.ncols()) {
                 for j in 0..values.nrows() {
                     writeln!(
