@@ -293,6 +293,12 @@ fn hull_seeds() -> Vec<String> {
         read("examples/hulls/midship.xml"),
         read("examples/hulls/pontoon.xml"),
         read("examples/hulls/semicircle.xml"),
+        // A floating section: mass properties and moorings.
+        read("examples/hulls/pontoon.xml").replace(
+            "</hull>",
+            "<mass value=\"displaced\" x=\"0\" y=\"-0.2\" radius_of_gyration=\"0.3\">\
+             <mooring dof=\"sway\" stiffness=\"1e3\" damping=\"5\"/></mass></hull>",
+        ),
         nested("hull", "contour", 100),
         read("examples/hulls/barge.xml").replace("half_beam=\"", "half_beam=\"1e154"),
     ]
@@ -342,10 +348,18 @@ fn fuzz_network_files() {
 
 #[test]
 fn fuzz_hull_files() {
-    fuzz("hull", &hull_seeds(), 4, MIN_HULL, |text| {
+    fuzz("hull", &hull_seeds(), 5, MIN_HULL, |text| {
         let Ok(hull) = Hull::from_xml_str(text, "fuzz.xml") else {
             return Ok(false);
         };
+        if let Some(mass) = hull.mass() {
+            if let Ok(properties) = mass.properties(&hull, 1025.0) {
+                if let Ok(statics) = hydrofmu::hydrostatics::stiffness(&hull) {
+                    let _ =
+                        hydrofmu::motion::Floating::new(&hull, &statics, &properties, 1025.0, 9.81);
+                }
+            }
+        }
         let params = PanelParams {
             body_panels: 32,
             ..PanelParams::for_hull(&hull)
