@@ -122,13 +122,9 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
             "a ship"
         ));
     }
-    if args.drift.is_some() {
-        return Err(
-            "--drift: the mean wave drift is computed for a section; a ship's is not available yet"
-                .to_string(),
-        );
-    }
-    let (ship, params) = resolve(&args.sweep)?;
+    let (ship, mut params) = resolve(&args.sweep)?;
+    // The fixed ship's mean drift by strip theory (docs/SHIPS.md) only when a table asks.
+    params.drift = args.drift.is_some();
     let dofs = requested_dofs(&ship, &args.sweep)?;
     let (result, elapsed) = sweep(&ship, &params, &args.sweep)?;
     let result = selected(result, dofs.as_deref())?;
@@ -156,7 +152,17 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
 /// half-beam, or rad/s; default [`Band::default`]). The band, tolerance, DOFs and form are
 /// checked before the sweep.
 pub fn fit(args: &HullSweepArgs, options: &FitOptions) -> Result<FittedBody, String> {
-    let (ship, params) = resolve(args)?;
+    fit_with_drift(args, options, false)
+}
+
+/// [`fit`], with the fixed ship's mean drift in the database when `drift`.
+fn fit_with_drift(
+    args: &HullSweepArgs,
+    options: &FitOptions,
+    drift: bool,
+) -> Result<FittedBody, String> {
+    let (ship, mut params) = resolve(args)?;
+    params.drift = drift;
     let radius = ship
         .sections()
         .iter()
@@ -202,6 +208,6 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
             "--network applies to a section; a ship's network is fitted to its sweep".into(),
         ));
     }
-    let fitted = fit(&args.sweep, &FitOptions::of_pack(args))?;
+    let fitted = fit_with_drift(&args.sweep, &FitOptions::of_pack(args), args.drift)?;
     body::pack(&fitted, args)
 }

@@ -150,3 +150,82 @@ fn ship_errors_name_the_file_and_the_option() {
     );
     assert!(!archive.exists());
 }
+
+/// `--drift`: the fixed ship's mean drift by strip theory, as a CSV (`sweep`) and as the
+/// archive's drift table with its outputs (`pack`).
+#[test]
+fn a_ship_s_mean_drift_goes_to_its_table_and_its_archive() {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-ship-drift-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let drift = dir.join("d.csv");
+    let (ok, _, err) = fmu_pack(&[
+        "sweep",
+        &example("barge.xml"),
+        "--omega",
+        "0.6:1.2:3",
+        "--headings",
+        "180,90",
+        "--panels",
+        "32",
+        "--levels",
+        "2",
+        "--drift",
+        drift.to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&drift).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("omega"))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 3 * 6 * 2, "3 frequencies x 6 DOFs x 2 headings");
+    // Beam seas push the barge towards +y; head seas not at all.
+    for row in &rows {
+        let (j, heading, value) = (row[1], row[2], row[3]);
+        if j == 1.0 && heading == 90.0 {
+            assert!(value > 0.0, "{row:?}");
+        }
+        if heading == 180.0 {
+            assert_eq!(value, 0.0, "{row:?}");
+        }
+    }
+    let binary = dir.join("libstand-in.so");
+    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let archive = dir.join("Barge.fmu");
+    let (ok, _, err) = fmu_pack(&[
+        "pack",
+        &example("barge.xml"),
+        "--dofs",
+        "sway,heave",
+        "--headings",
+        "90",
+        "--panels",
+        "32",
+        "--levels",
+        "2",
+        "--drift",
+        "--allow-tolerance-miss",
+        "--binary",
+        binary.to_str().unwrap(),
+        "-o",
+        archive.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(&archive).unwrap()).unwrap();
+    let mut table = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("resources/drift.csv").unwrap(), &mut table)
+        .unwrap();
+    assert!(table.contains("\nkR,j,heading,value\n"), "{table}");
+    let mut description = String::new();
+    std::io::Read::read_to_string(
+        &mut zip.by_name("modelDescription.xml").unwrap(),
+        &mut description,
+    )
+    .unwrap();
+    assert!(description.contains("name=\"wave.drift\""));
+    assert!(description.contains("name=\"force_drift.sway\""));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -38,8 +38,10 @@
 //! * `file.rs`: ship files (`docs/SHIPS.md`);
 //! * `pdstrip.rs`: PDStrip offset files (the stations of a ship file's `<offsets>`);
 //! * `girder.rs`: free-free hull-girder modes from mass and stiffness distributions;
-//! * `strip.rs`: the sweep of every distinct section and the strip integration.
+//! * `strip.rs`: the sweep of every distinct section and the strip integration;
+//! * `drift.rs`: the fixed ship's mean wave drift by strip theory.
 
+pub mod drift;
 mod file;
 pub mod girder;
 mod pdstrip;

@@ -70,6 +70,9 @@ pub struct ShipSweepParams {
     pub rho: f64,
     /// Gravity, m/s^2. Default 9.81.
     pub g: f64,
+    /// Also the fixed ship's mean wave drift ([`super::drift`], `Database::drift`). Default
+    /// false: it costs a second diffraction solve of every section at every frequency.
+    pub drift: bool,
 }
 
 impl ShipSweepParams {
@@ -122,6 +125,7 @@ impl ShipSweepParams {
             threads: 2,
             rho: 1025.0,
             g,
+            drift: false,
         }
     }
 }
@@ -171,7 +175,7 @@ impl std::error::Error for ShipSweepError {}
 
 /// One Gauss point's share of one station's section: `weight * T^T Q T` with `T` the
 /// section coordinates of every ship DOF.
-struct Share {
+pub(super) struct Share {
     section: usize,
     x: f64,
     weight: f64,
@@ -265,7 +269,11 @@ fn integrate_real(shares: &[Share], n: usize, of: impl Fn(usize) -> DMatrix<f64>
 }
 
 /// `sum weight T^T q_section` over the shares.
-fn integrate_vector(shares: &[Share], n: usize, of: impl Fn(usize) -> Vec<f64>) -> Vec<f64> {
+pub(super) fn integrate_vector(
+    shares: &[Share],
+    n: usize,
+    of: impl Fn(usize) -> Vec<f64>,
+) -> Vec<f64> {
     let mut total = vec![0.0; n];
     for share in shares {
         let q = of(share.section);
@@ -300,6 +308,7 @@ struct StripIntegrals {
     excitation: DMatrix<Complex64>,
     froude_krylov: DMatrix<Complex64>,
     coarse: Option<(DMatrix<Complex64>, DMatrix<Complex64>)>,
+    drift: Option<DMatrix<f64>>,
 }
 
 /// Runs the ship's sweep. `progress(done, total)` after each section solve.
@@ -459,21 +468,36 @@ pub fn run(
         .flat_map(|k| (0..params.omega.len()).map(move |w| (k, w)))
         .collect();
     let done = AtomicUsize::new(0);
-    let solutions: Vec<Result<RadiationSolution, String>> = pool.install(|| {
+    type Solved = (
+        Result<RadiationSolution, String>,
+        Option<Result<DMatrix<f64>, String>>,
+    );
+    let (solutions, section_drifts): (Vec<_>, Vec<_>) = pool.install(|| {
         tasks
             .par_iter()
-            .map(|&(k, w)| {
+            .map(|&(k, w)| -> Solved {
                 let omega = params.omega[w];
-                let surface = FreeSurface::Wave {
-                    wavenumber: crate::units::wavenumber(omega, params.g),
-                };
+                let wavenumber = crate::units::wavenumber(omega, params.g);
+                let at = |e| format!("the section at x = {} m: {e}", first_x(k));
                 let solution = solvers[k]
-                    .solve_waves(surface, params.irregular_frequencies, &cosines)
-                    .map_err(|e| format!("the section at x = {} m: {e}", first_x(k)));
+                    .solve_waves(
+                        FreeSurface::Wave { wavenumber },
+                        params.irregular_frequencies,
+                        &cosines,
+                    )
+                    .map_err(|e| at(e.to_string()));
+                let drift = params.drift.then(|| {
+                    super::drift::section_drift(
+                        &solvers[k],
+                        wavenumber,
+                        params.irregular_frequencies,
+                    )
+                    .map_err(at)
+                });
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, tasks.len());
-                solution
+                (solution, drift)
             })
-            .collect()
+            .unzip()
     });
 
     let all: Vec<usize> = (0..ship.stations().len()).collect();
@@ -540,6 +564,24 @@ pub fn run(
             .map(|s| s.wave_forces.as_ref())
             .collect::<Option<Vec<_>>>()
             .ok_or_else(|| "a section's solve gave no exciting force".to_string())?;
+        let drift = if params.drift {
+            let sections_drift = (0..sections.len())
+                .map(|k| match &section_drifts[k * count + w] {
+                    Some(Ok(d)) => Ok(d.clone()),
+                    Some(Err(e)) => Err(e.clone()),
+                    None => Err("no drift solve".to_string()),
+                })
+                .collect::<Result<Vec<_>, String>>()?;
+            Some(super::drift::integrate(
+                &shares,
+                n,
+                &params.headings,
+                &sections_drift,
+                rho * g,
+            ))
+        } else {
+            None
+        };
         let added = integrate_complex(&shares, n, &|k| solved[k].added_mass.clone())
             * Complex64::new(rho, 0.0);
         let k = crate::units::wavenumber(omega, g);
@@ -589,6 +631,7 @@ pub fn run(
             froude_krylov: force(&shares, &all_phases, true),
             added,
             coarse,
+            drift,
         })
     };
     let integrals: Vec<Result<StripIntegrals, String>> =
@@ -607,12 +650,14 @@ pub fn run(
             excitation,
             froude_krylov,
             coarse: coarse_integrals,
+            drift,
         } = integrals;
         if let Some((coarse_added, coarse_excitation)) = &coarse_integrals {
             spacing.add(omega, &added, coarse_added, &excitation, coarse_excitation);
         }
         let finite = |z: &Complex64| z.re.is_finite() && z.im.is_finite();
-        if !(added.iter().all(finite) && excitation.iter().all(finite)) {
+        let drift_finite = drift.iter().flatten().all(|x| x.is_finite());
+        if !(added.iter().all(finite) && excitation.iter().all(finite) && drift_finite) {
             result
                 .failures
                 .push((omega, "non-finite strip integral".to_string()));
@@ -626,11 +671,15 @@ pub fn run(
         result.added_mass.push(added);
         result.excitation.push(excitation);
         result.froude_krylov.push(froude_krylov);
+        result.drift.extend(drift);
     }
     if result.omega.is_empty() {
         return Err(ShipSweepError::NothingComputed {
             failures: result.failures,
         });
+    }
+    if params.drift {
+        result.drift_headings = params.headings.clone();
     }
     if let Some(w) = coarse {
         result.warnings.push(w);
