@@ -89,7 +89,8 @@ pub enum MotionError {
         /// Wave frequency, rad/s.
         omega: f64,
     },
-    /// A sweep of another hull (DOF count) or without its exciting forces.
+    /// A sweep of another hull (DOF count), without its exciting forces, or (for the drift)
+    /// without its drift.
     OtherSweep {
         /// The sweep's DOF count.
         dofs: usize,
@@ -113,7 +114,8 @@ impl fmt::Display for MotionError {
             MotionError::OtherSweep { dofs, expected } => write!(
                 f,
                 "the sweep has {dofs} DOFs and the floating hull {expected}, or the sweep has no \
-                 exciting force: sweep this hull with its exciting forces"
+                 exciting force (or no drift, for the drift): sweep this hull with its exciting \
+                 forces (and --drift)"
             ),
         }
     }
@@ -356,6 +358,42 @@ impl Floating {
                     })
                     .collect::<Result<Vec<_>, _>>()?;
                 Ok(DMatrix::from_columns(&columns))
+            })
+            .collect()
+    }
+
+    /// The mean drift per `rho g a^2` of this floating section at every frequency of `sweep`
+    /// (swept with its drift): one matrix per frequency, rows the hull's DOFs, columns the
+    /// sweep's headings, in SI of the DOF (N/m per m^2 of amplitude for a translation, N per m^2
+    /// for roll), as [`crate::bem::Drift::mean_drift`] gives the fixed section's.
+    ///
+    /// A rigid sway row is the far field (Maruo) with the waves the motion radiates
+    /// ([`crate::bem::Drift::horizontal_far_field_moving`]). The other rows need the pressure
+    /// integration's terms of the motion, which are not computed yet: they are `NaN`, so no
+    /// caller mistakes them for values.
+    ///
+    /// # Errors
+    /// As [`Floating::sweep_raos`]; a sweep without drift ([`MotionError::OtherSweep`]).
+    pub fn sweep_drift(&self, sweep: &SweepResult) -> Result<Vec<DMatrix<f64>>, MotionError> {
+        let raos = self.sweep_raos(sweep)?;
+        sweep
+            .excitation
+            .iter()
+            .zip(&raos)
+            .map(|(forces, rao)| {
+                let drift = forces.drift.as_ref().ok_or(MotionError::OtherSweep {
+                    dofs: sweep.dof_names.len(),
+                    expected: self.dof_count,
+                })?;
+                let headings = drift.cosines.len().min(rao.ncols());
+                Ok(DMatrix::from_fn(self.dof_count, headings, |j, h| {
+                    if drift.horizontal[j] {
+                        let motion: Vec<Complex64> = rao.column(h).iter().copied().collect();
+                        drift.horizontal_far_field_moving(h, &motion)
+                    } else {
+                        f64::NAN
+                    }
+                }))
             })
             .collect()
     }

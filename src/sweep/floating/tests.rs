@@ -1,6 +1,7 @@
 //! The floating section's tables: scale invariance, a stiff mooring recovering the fixed
 //! section, the free section's energy and long-wave motion, refused input.
 
+use crate::bem::HEADINGS;
 use crate::hull::Hull;
 use crate::hydrostatics;
 use crate::motion::{Floating, MassProperties, MotionError};
@@ -221,4 +222,41 @@ fn moorings_that_supply_energy_and_other_sweeps_are_refused() {
         ),
         "{e}"
     );
+}
+
+#[test]
+fn the_swept_floating_drift_is_the_tables_sway_and_marks_the_rest_uncomputed() {
+    // Sway by the far field: the table's value, and under a stiff mooring the fixed
+    // section's far-field sway; heave, roll and the elastic DOF are not computed (NaN).
+    let (hull, result) = sweep(1.0, vec![0.3, 1.0]);
+    let (free, properties) = floating(&hull, 1.0, [0.0; 3]);
+    let (_, table) = tables(&hull, &result, &free, &properties.to_string());
+    let table = rows(&table, "kR,j,heading,value");
+    let drift = free.sweep_drift(&result).unwrap();
+    assert_eq!(drift.len(), 2);
+    for (f, (kr, values)) in result.kr.iter().zip(&drift).enumerate() {
+        assert_eq!(values.shape(), (4, 2));
+        for h in 0..2 {
+            let row = table
+                .iter()
+                .find(|r| r[0] == *kr && r[1] == 1.0 && r[2] == HEADINGS[h])
+                .unwrap();
+            assert!((values[(0, h)] - row[3]).abs() <= 1e-12, "{f} {h} {row:?}");
+            assert!((1..4).all(|j| values[(j, h)].is_nan()));
+        }
+    }
+    let stiff = 1e6 * RHO * G * 2.0;
+    let (moored, _) = floating(&hull, 1.0, [stiff, stiff, stiff]);
+    for (forces, values) in result
+        .excitation
+        .iter()
+        .zip(moored.sweep_drift(&result).unwrap())
+    {
+        let fixed = forces.drift.as_ref().unwrap();
+        for h in 0..2 {
+            let difference = (values[(0, h)] - fixed.horizontal_far_field(h)).abs();
+            // Measured: about 1e-7 (the motion ~1e-6 of a free section's).
+            assert!(difference <= 1e-5, "{difference}");
+        }
+    }
 }
