@@ -152,12 +152,36 @@ pub struct SweepArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub drift: Option<PathBuf>,
     /// Also write the floating section's motion per unit wave amplitude (docs/DRIFT.md),
-    /// `kR,j,heading,re,im` with `xi_j R^e_j / a`, rigid DOFs (elastic DOFs held); needs
-    /// --mass, --cog and --gyradius, with which --drift gives the floating section's drift.
+    /// `kR,j,heading,re,im` with `xi_j R^e_j / a`, rigid DOFs (elastic DOFs held); needs the
+    /// mass properties (the hull file's <mass>, or --mass, --cog and --gyradius), with which
+    /// --drift gives the floating section's drift.
     #[arg(long, value_name = "FILE.csv")]
     pub rao: Option<PathBuf>,
+    /// The floating section's mass properties and moorings.
+    #[command(flatten)]
+    pub floating: FloatingArgs,
+    /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
+    /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
+    #[arg(long, value_name = "FILE.csv")]
+    pub hydrostatics: Option<PathBuf>,
+    /// Also write the tables as WAMIT files PREFIX.1, PREFIX.3 (with an exciting force) and
+    /// PREFIX.hst, ULEN = 1 m; a section's per unit length, as a 1 m slice in beam seas
+    /// (docs/DATABASES.md, "Export").
+    #[arg(long, value_name = "PREFIX")]
+    pub wamit: Option<PathBuf>,
+    /// Also write the tables as a Capytaine dataset in NetCDF-3; a section's per unit length
+    /// (docs/DATABASES.md, "Export").
+    #[arg(long, value_name = "FILE.nc")]
+    pub netcdf: Option<PathBuf>,
+}
+
+/// The mass properties and moorings of a floating section: each option replaces the field of
+/// the hull file's `<mass>` element (docs/HULL_FORMAT.md); `--fixed` holds a section whose
+/// file gives one.
+#[derive(Args, Debug, Clone, Default)]
+pub struct FloatingArgs {
     /// The floating section's mass per unit length (kg/m), or `displaced`: the displaced
-    /// mass at rho = 1025 kg/m^3 (free floating).
+    /// mass at rho = 1025 kg/m^3 (free floating). Replaces the hull file's <mass value>.
     #[arg(long, value_name = "KG_PER_M|displaced", allow_hyphen_values = true)]
     pub mass: Option<String>,
     /// Its centre of gravity `X,Y` (m; the hull's frame: y up, free surface at y = 0).
@@ -178,19 +202,20 @@ pub struct SweepArgs {
         allow_hyphen_values = true
     )]
     pub mooring_damping: Option<String>,
-    /// Also write the hydrostatic restoring `C / (rho g)` of the DOFs (docs/HYDROSTATICS.md),
-    /// `i,j,value` in SI per unit length (a ship: `C` itself, whole-ship SI, `i,j,c`).
-    #[arg(long, value_name = "FILE.csv")]
-    pub hydrostatics: Option<PathBuf>,
-    /// Also write the tables as WAMIT files PREFIX.1, PREFIX.3 (with an exciting force) and
-    /// PREFIX.hst, ULEN = 1 m; a section's per unit length, as a 1 m slice in beam seas
-    /// (docs/DATABASES.md, "Export").
-    #[arg(long, value_name = "PREFIX")]
-    pub wamit: Option<PathBuf>,
-    /// Also write the tables as a Capytaine dataset in NetCDF-3; a section's per unit length
-    /// (docs/DATABASES.md, "Export").
-    #[arg(long, value_name = "FILE.nc")]
-    pub netcdf: Option<PathBuf>,
+    /// Hold the section fixed although its hull file gives <mass>.
+    #[arg(long)]
+    pub fixed: bool,
+}
+
+impl FloatingArgs {
+    /// Whether any mass property or mooring is given (not `--fixed`).
+    pub fn given(&self) -> bool {
+        self.mass.is_some()
+            || self.cog.is_some()
+            || self.gyradius.is_some()
+            || self.mooring.is_some()
+            || self.mooring_damping.is_some()
+    }
 }
 
 /// Parses `MIN:MAX:COUNT`.
@@ -255,9 +280,13 @@ pub struct PackArgs {
     pub keep_inf_mass: bool,
     /// Give the FMU the mean wave drift (docs/DRIFT.md): parameter `wave.drift` (0 none, 1
     /// mean, 2 slow drift by Newman's approximation) and outputs `force_drift.<dof>`. A
-    /// section's fixed drift from its sweep; an imported database's from NAME.8 or NAME.9.
+    /// section's drift from its sweep (floating with the hull file's <mass> or the options
+    /// below, else fixed); an imported database's from NAME.8 or NAME.9.
     #[arg(long)]
     pub drift: bool,
+    /// The floating section whose drift --drift packs.
+    #[command(flatten)]
+    pub floating: FloatingArgs,
     /// Output archive (.fmu).
     #[arg(short = 'o', long)]
     pub output: PathBuf,
@@ -305,11 +334,6 @@ pub struct InspectArgs {
 impl SweepArgs {
     /// Whether any option of a floating section is given.
     pub fn floats(&self) -> bool {
-        self.rao.is_some()
-            || self.mass.is_some()
-            || self.cog.is_some()
-            || self.gyradius.is_some()
-            || self.mooring.is_some()
-            || self.mooring_damping.is_some()
+        self.rao.is_some() || self.floating.given()
     }
 }

@@ -173,7 +173,7 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
         if fitted.database.drift.is_empty() {
             return Err(PackError(format!(
                 "--drift: {} has no mean drift (an imported WAMIT NAME.1 takes it from NAME.8 or \
-                 NAME.9 beside it; a ship's is not computed yet)",
+                 NAME.9 beside it)",
                 fitted.database.name
             )));
         }

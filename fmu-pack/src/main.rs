@@ -17,6 +17,7 @@ mod body;
 mod database_cmd;
 mod fit_cmd;
 mod fit_report;
+mod floating;
 mod hull_arg;
 mod output;
 mod pack;

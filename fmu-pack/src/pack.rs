@@ -25,6 +25,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         _ => {}
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
+    let floating = floating_for_drift(args)?;
     let hull = Body::section(&resolved);
     let mut report = None;
     let network = match &args.network {
@@ -97,8 +98,32 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         args.keep_inf_mass,
         &target,
         report.as_ref(),
-        args.drift,
+        args.drift.then_some(floating.as_ref()),
     )
+}
+
+/// The floating section whose drift `--drift` packs (the whole hull floats, whatever DOFs the
+/// network keeps), or `None` for the fixed section's drift. Mass options without `--drift`
+/// are refused: they change nothing else.
+fn floating_for_drift(
+    args: &PackArgs,
+) -> Result<Option<crate::floating::FloatingSection>, PackError> {
+    if !args.drift {
+        if args.floating.given() || args.floating.fixed {
+            return Err(PackError(
+                "--mass, --cog, --gyradius, --mooring and --fixed choose the body whose mean \
+                 drift --drift packs; add --drift"
+                    .into(),
+            ));
+        }
+        return Ok(None);
+    }
+    let whole = HullSweepArgs {
+        dofs: None,
+        ..args.sweep.clone()
+    };
+    let (whole_hull, _) = whole.resolve()?;
+    Ok(crate::floating::resolve(&whole_hull, &args.floating, None)?)
 }
 
 /// Why a fit that misses its tolerance is not packed, and what to do.

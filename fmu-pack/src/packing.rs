@@ -3,6 +3,7 @@
 //! it written together; and reading one back ([`hydrofmu::fmu::inspect`]).
 
 use crate::args::FmiVersion;
+use crate::floating::FloatingSection;
 use crate::pipeline::Built;
 use hydrofmu::fmu::{self, osp, Archive, ArchiveError, Body, SceneDocumentation};
 use hydrofmu::scene::SceneReport;
@@ -118,7 +119,8 @@ impl fmt::Display for PackSummary {
 }
 
 /// Packs a network for a body into `target.output` (the lower-level entry point): the
-/// section's exciting force (and with `drift` its mean drift table) from the fit's sweep, the scene report, the fit report and its
+/// section's exciting force (and with `drift` its mean drift table: of the floating section
+/// given, else of the fixed one) from the fit's sweep, the scene report, the fit report and its
 /// figures when a scene computed the network; the archive and its OSP description written
 /// together, or neither.
 pub fn pack_network(
@@ -127,7 +129,7 @@ pub fn pack_network(
     keep_inf_mass: bool,
     target: &Target,
     fit: Option<&Fitted>,
-    drift: bool,
+    drift: Option<Option<&FloatingSection>>,
 ) -> Result<PackSummary, PackError> {
     refuse_standard_output(target.output)?;
     // A network packed from a file has no sweep: its FMU models calm water only.
@@ -135,13 +137,15 @@ pub fn pack_network(
         Some(fitted) => {
             let names = &network.network().dof_names;
             let body = body.with_sweep_excitation(&fitted.built.sweep, names)?;
-            if drift {
-                body.with_sweep_drift(&fitted.built.sweep, names)?
-            } else {
-                body
+            match drift {
+                Some(Some((floating, line))) => {
+                    body.with_floating_drift(&fitted.built.sweep, names, floating, line)?
+                }
+                Some(None) => body.with_sweep_drift(&fitted.built.sweep, names)?,
+                None => body,
             }
         }
-        None if drift => {
+        None if drift.is_some() => {
             return Err(PackError(
                 "--drift: a network packed from a file has no sweep, so no drift table; pack \
                  the hull without --network"
@@ -371,7 +375,7 @@ mod tests {
             output: &out,
             fmi: FmiVersion::V3,
         };
-        let summary = pack_network(hull(), net(), false, &target, None, false).unwrap();
+        let summary = pack_network(hull(), net(), false, &target, None, None).unwrap();
         assert_eq!(summary.dofs, vec!["sway".to_string()]);
         let found = inspect(&out).unwrap();
         assert_eq!(found.guid, summary.guid);
@@ -398,7 +402,7 @@ mod tests {
                 output,
                 fmi: FmiVersion::V2,
             };
-            pack_network(hull(), net(), false, &target, None, false).unwrap_err()
+            pack_network(hull(), net(), false, &target, None, None).unwrap_err()
         };
         let e = to(&dir.join("missing.so"), &out);
         assert!(e.0.contains("cannot read the binary"), "{e}");

@@ -5,13 +5,11 @@ use crate::output;
 use crate::pipeline;
 use crate::progress::Progress;
 use hydrofmu::database::section::SectionDatabase;
-use hydrofmu::hull::{DofKind, Hull};
-use hydrofmu::motion::{Floating, MassProperties};
+use hydrofmu::hull::Hull;
 use hydrofmu::scene::Scene;
 use hydrofmu::source::Source;
 use hydrofmu::sweep::{self, ExcitationPart};
 use hydrofmu::xml::{format_number, Notation};
-use nalgebra::DMatrix;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -73,7 +71,8 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     }
     let (hull, mut params) = args.sweep.resolve()?;
     // The mass properties before a sweep that may take minutes.
-    let floating = floating(&hull, args)?;
+    let floating =
+        crate::floating::resolve(&hull, &args.floating, args.rao.as_ref().map(|_| "--rao"))?;
     let exports = args.wamit.is_some() || args.netcdf.is_some();
     if exports {
         hydrofmu::database::section::wamit_names(&hull)
@@ -193,80 +192,6 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         ));
     }
     Ok(())
-}
-
-/// The floating section of `--mass`, `--cog`, `--gyradius` and the moorings, at the reference
-/// rho and g, with its description line; `None` without them. `--rao` needs them.
-fn floating(hull: &Hull, args: &SweepArgs) -> Result<Option<(Floating, String)>, String> {
-    use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
-    if !args.floats() {
-        return Ok(None);
-    }
-    let (Some(mass), Some(cog), Some(gyradius)) = (&args.mass, &args.cog, args.gyradius) else {
-        return Err(
-            "a floating section (--rao, --mass, --cog, --gyradius, --mooring) needs --mass, \
-             --cog and --gyradius"
-                .to_string(),
-        );
-    };
-    let statics = hydrofmu::hydrostatics::stiffness(hull).map_err(|e| e.to_string())?;
-    let mass = if mass == "displaced" {
-        DEFAULT_RHO * statics.submerged_area
-    } else {
-        mass.parse()
-            .map_err(|_| format!("--mass '{mass}': expected kg/m or 'displaced'"))?
-    };
-    let centre = match cog.split(',').map(str::trim).collect::<Vec<_>>()[..] {
-        [x, y] => [x, y].map(|v| v.parse::<f64>().ok()),
-        _ => [None, None],
-    };
-    let [Some(x), Some(y)] = centre else {
-        return Err(format!("--cog '{cog}': expected X,Y in m"));
-    };
-    let rigid: Vec<&str> = (0..hull.dof_count())
-        .filter(|&j| matches!(hull.dof_kind(j), Some(DofKind::Rigid { .. })))
-        .map(|j| hull.dof_names()[j])
-        .collect();
-    let diagonal = |option: &str, text: &Option<String>| -> Result<DMatrix<f64>, String> {
-        let Some(text) = text else {
-            return Ok(DMatrix::zeros(0, 0));
-        };
-        let mut matrix = DMatrix::zeros(rigid.len(), rigid.len());
-        for entry in text.split(',') {
-            let (name, value) = entry.split_once('=').ok_or_else(|| {
-                format!(
-                    "{option} '{entry}': expected DOF=VALUE (DOFs: {})",
-                    rigid.join(" ")
-                )
-            })?;
-            let k = rigid
-                .iter()
-                .position(|d| *d == name.trim())
-                .ok_or_else(|| {
-                    format!(
-                        "{option}: '{}' is not a rigid DOF of the section (its rigid DOFs: {})",
-                        name.trim(),
-                        rigid.join(" ")
-                    )
-                })?;
-            matrix[(k, k)] = value
-                .trim()
-                .parse()
-                .map_err(|_| format!("{option} '{entry}': '{value}' is not a number"))?;
-        }
-        Ok(matrix)
-    };
-    let properties = MassProperties {
-        mass,
-        centre_of_gravity: [x, y],
-        radius_of_gyration: gyradius,
-        stiffness: diagonal("--mooring", &args.mooring)?,
-        damping: diagonal("--mooring-damping", &args.mooring_damping)?,
-    };
-    let floating = Floating::new(hull, &statics, &properties, DEFAULT_RHO, DEFAULT_G)
-        .map_err(|e| format!("{}: {e}", hull.name()))?;
-    let line = format!("{properties}; rho {DEFAULT_RHO} kg/m^3, g {DEFAULT_G} m/s^2");
-    Ok(Some((floating, line)))
 }
 
 /// Stages `--wamit` and `--netcdf` of a section: its 1 m slice per unit length at the

@@ -245,6 +245,68 @@ impl Body {
     }
 }
 
+impl Body {
+    /// As [`Body::with_sweep_drift`], for the section floating as `floating` (described by
+    /// `description`, e.g. [`crate::motion::MassProperties`]'s line): its motion is of the whole
+    /// swept hull, its drift table holds the DOFs `names` (the network's).
+    ///
+    /// # Errors
+    /// As [`Body::with_sweep_drift`], and a motion that cannot be computed.
+    pub fn with_floating_drift(
+        mut self,
+        sweep: &SweepResult,
+        names: &[String],
+        floating: &crate::motion::Floating,
+        description: &str,
+    ) -> Result<Body, ArchiveError> {
+        let selected = sweep_of(sweep, names)?;
+        let rows: Vec<usize> = names
+            .iter()
+            .filter_map(|n| sweep.dof_names.iter().position(|d| d == n))
+            .collect();
+        let drift = floating
+            .sweep_drift(sweep)
+            .map_err(|e| format!("the floating drift: {e}"))?;
+        let values: Vec<(f64, nalgebra::DMatrix<f64>)> = sweep
+            .kr
+            .iter()
+            .zip(&sweep.excitation)
+            .zip(drift)
+            .filter(|((_, forces), _)| forces.drift.is_some())
+            .map(|((kr, _), d)| (*kr, d.select_rows(&rows)))
+            .collect();
+        if values.is_empty() {
+            return Err("the sweep has no drift force (no frequency solved with it)"
+                .to_string()
+                .into());
+        }
+        // Rows the floating section's drift does not give yet (NaN) cannot go into a table.
+        let missing: Vec<&str> = (0..rows.len())
+            .filter(|&r| {
+                values
+                    .iter()
+                    .any(|(_, d)| d.row(r).iter().any(|v| !v.is_finite()))
+            })
+            .map(|r| names[r].as_str())
+            .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "the floating section's mean drift is computed for rigid sway only (by the far \
+                 field); {} need the pressure integration of the moving section, not built yet: \
+                 pack the sway DOF alone, or the fixed section's drift",
+                missing.join(" ")
+            )
+            .into());
+        }
+        let mut text = Vec::new();
+        selected
+            .write_drift_values(&mut text, &format!("floating; {description}"), &values)
+            .map_err(|e| format!("cannot format the drift table: {e}"))?;
+        self.drift_csv = Some(String::from_utf8_lossy(&text).into_owned());
+        Ok(self)
+    }
+}
+
 /// `sweep` restricted to the DOFs `names` (those of the network).
 fn sweep_of(sweep: &SweepResult, names: &[String]) -> Result<SweepResult, ArchiveError> {
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
