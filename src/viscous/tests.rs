@@ -92,7 +92,8 @@ fn equivalent_damping_grows_with_amplitude() {
 
 #[test]
 fn bad_input_names_the_field() {
-    let cases: [(&str, fn(&mut RollDampingParams)); 6] = [
+    type Spoil = fn(&mut RollDampingParams);
+    let cases: [(&str, Spoil); 6] = [
         ("breadth", |p| p.breadth = f64::NAN),
         ("draft", |p| p.draft = -1.0),
         ("bilge_radius", |p| p.bilge_radius = 10.5),
