@@ -77,7 +77,8 @@
 //! [`SceneReport`]). [`fmu`] (variables, model descriptions, resources, GUID, the archive) and
 //! [`fmi`] (the exported C functions of FMI 2.0 and of FMI 3.0, over one instance) make the
 //! FMU. [`input`] reads the user's files within bounds ([`FileError`], [`ReadError`]);
-//! [`units`] and [`xml`] support every stage.
+//! [`units`] and [`xml`] support every stage. [`viscous`] gives a section's roll damping by
+//! Ikeda's components and its cross-flow drag.
 //!
 //! Conventions of a section (docs/DESIGN.md; ships and databases: [`database`]): 2D, per unit
 //! length of hull, SI units; x to the right, y up, mean free surface y = 0, fluid in y < 0,
@@ -109,6 +110,7 @@ pub mod ship;
 pub mod source;
 pub mod sweep;
 pub mod units;
+pub mod viscous;
 pub mod waves;
 pub mod xml;
 
