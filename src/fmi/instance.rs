@@ -220,6 +220,11 @@ impl Instance {
         if model.drift_table().is_some() {
             layout = layout.with_drift().map_err(InstantiateError::Variables)?;
         }
+        if let Some(viscous) = model.viscous() {
+            layout = layout
+                .with_viscous(viscous.linear(), viscous.quadratic())
+                .map_err(InstantiateError::Variables)?;
+        }
         let mut instance = Instance {
             name: name.to_owned(),
             log: LogSwitches::new(logging_on),
@@ -571,6 +576,18 @@ impl Instance {
                     Quantity::G => {
                         g = *x;
                         parameters = true;
+                    }
+                    Quantity::DampingLinear(..) | Quantity::DampingQuadratic(_) if !before_init => {
+                        return Err(format!(
+                            "{} is a fixed parameter: set it before initialization mode ends",
+                            inst.variable_name(*r)
+                        ))
+                    }
+                    Quantity::DampingLinear(..)
+                    | Quantity::DampingQuadratic(_)
+                    | Quantity::CurrentSpeed
+                    | Quantity::CurrentHeading => {
+                        crate::model::viscous::check_value(q, *x)?;
                     }
                     Quantity::Velocity(_) | Quantity::Acceleration(_) => {
                         // Checked before anything is set: a refused call changes nothing.

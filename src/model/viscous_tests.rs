@@ -1,0 +1,1 @@
+//! Tests of the viscous damping and current in the model.
