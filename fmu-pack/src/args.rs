@@ -258,6 +258,9 @@ pub struct PackArgs {
     /// section's fixed drift from its sweep; an imported database's from NAME.8 or NAME.9.
     #[arg(long)]
     pub drift: bool,
+    /// Viscous damping and current (`--viscous`, `--damping-linear`, `--damping-quadratic`).
+    #[command(flatten)]
+    pub viscous: crate::viscous_args::ViscousArgs,
     /// Output archive (.fmu).
     #[arg(short = 'o', long)]
     pub output: PathBuf,

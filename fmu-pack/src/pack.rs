@@ -25,7 +25,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         _ => {}
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
-    let hull = Body::section(&resolved);
+    let hull = args.viscous.apply(Body::section(&resolved))?;
     let mut report = None;
     let network = match &args.network {
         Some(path) => {
