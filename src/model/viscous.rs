@@ -38,6 +38,8 @@ pub struct Viscous {
     current: DVector<f64>,
     /// Scratch: `v_r`.
     relative: DVector<f64>,
+    /// `B_l` is diagonal (the usual case: the force costs n products, not n^2).
+    diagonal: bool,
 }
 
 /// `(a, b)` of a DOF (module docs); `has_surge`: the body has a surge DOF.
@@ -67,16 +69,12 @@ impl Viscous {
                 quadratic.len()
             ));
         }
-        let has_surge = names.iter().any(|n| n == "surge");
-        let viscous = Viscous {
+        let mut viscous = Viscous {
             linear,
             quadratic,
-            axes: names.iter().map(|n| current_axis(n, has_surge)).collect(),
-            speed: 0.0,
-            heading: 0.0,
-            current: DVector::zeros(n),
-            relative: DVector::zeros(n),
+            ..Viscous::zeros(names)
         };
+        viscous.diagonal = is_diagonal(&viscous.linear);
         viscous.check()?;
         Ok(viscous)
     }
@@ -84,8 +82,17 @@ impl Viscous {
     /// Zero coefficients for the DOFs `names`.
     pub fn zeros(names: &[String]) -> Viscous {
         let n = names.len();
-        Viscous::new(names, DMatrix::zeros(n, n), DVector::zeros(n))
-            .unwrap_or_else(|_| unreachable!("zero damping is valid"))
+        let has_surge = names.iter().any(|n| n == "surge");
+        Viscous {
+            linear: DMatrix::zeros(n, n),
+            quadratic: DVector::zeros(n),
+            axes: names.iter().map(|n| current_axis(n, has_surge)).collect(),
+            speed: 0.0,
+            heading: 0.0,
+            current: DVector::zeros(n),
+            relative: DVector::zeros(n),
+            diagonal: true,
+        }
     }
 
     /// Refuses a coefficient that is not finite or negative (`damping_quadratic[i]`, a
@@ -123,6 +130,7 @@ impl Viscous {
     pub fn set_linear(&mut self, i: usize, j: usize, value: f64) -> Result<(), String> {
         check_linear(i, j, value)?;
         self.linear[(i, j)] = value;
+        self.diagonal = is_diagonal(&self.linear);
         Ok(())
     }
 
@@ -162,7 +170,14 @@ impl Viscous {
     pub fn force(&mut self, velocity: &DVector<f64>, force: &mut DVector<f64>) {
         self.relative.copy_from(velocity);
         self.relative -= &self.current;
-        force.gemv(-1.0, &self.linear, &self.relative, 0.0);
+        if self.diagonal {
+            // The same sums as the product below without its zero terms.
+            for (i, f) in force.iter_mut().enumerate() {
+                *f = -(self.linear[(i, i)] * self.relative[i]);
+            }
+        } else {
+            force.gemv(-1.0, &self.linear, &self.relative, 0.0);
+        }
         for ((f, b), v) in force.iter_mut().zip(&self.quadratic).zip(&self.relative) {
             *f -= b * v.abs() * v;
         }
@@ -223,6 +238,12 @@ pub fn check_value(quantity: Quantity, value: f64) -> Result<(), String> {
         }
         _ => Ok(()),
     }
+}
+
+/// Whether every off-diagonal entry is zero.
+fn is_diagonal(matrix: &DMatrix<f64>) -> bool {
+    let n = matrix.nrows();
+    (0..n).all(|i| (0..n).all(|j| i == j || matrix[(i, j)] == 0.0))
 }
 
 fn check_quadratic(i: usize, value: f64) -> Result<(), String> {

@@ -322,3 +322,25 @@ fn the_instance_declares_and_serves_the_viscous_variables() {
         assert!(texts.iter().any(|t| t.contains(name)), "{texts:?}");
     }
 }
+
+#[test]
+fn a_diagonal_linear_damping_gives_the_full_products_force() {
+    let diagonal = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]);
+    let mut fast = Viscous::new(&names(), diagonal.clone(), quadratic()).unwrap();
+    let mut full = Viscous::new(&names(), diagonal, quadratic()).unwrap();
+    // An off-diagonal entry set and reset to zero: still the same matrix, now by products.
+    full.set_linear(0, 1, 1.0).unwrap();
+    full.set_linear(0, 1, 0.0).unwrap();
+    full.set_current(0.7, 10.0).unwrap();
+    fast.set_current(0.7, 10.0).unwrap();
+    let (mut a, mut b) = (DVector::zeros(2), DVector::zeros(2));
+    for v in [[0.3, -0.2], [-1.1, 0.0], [0.0, 2.5]] {
+        let v = DVector::from_vec(v.to_vec());
+        fast.force(&v, &mut a);
+        full.force(&v, &mut b);
+        assert_eq!(a, b);
+    }
+    let mut coupled = Viscous::new(&names(), linear(), quadratic()).unwrap();
+    coupled.force(&DVector::from_vec(vec![1.0, 1.0]), &mut a);
+    assert_eq!(a[0], -(2.0 + 0.5) - 3.0);
+}
