@@ -9,6 +9,9 @@ use clap::Args;
 use hydrofmu::fmu::Body;
 use nalgebra::{DMatrix, DVector};
 
+/// Linear (n x n) and quadratic (n) damping.
+type Coefficients = (DMatrix<f64>, DVector<f64>);
+
 /// The most entries one option may list.
 const MAX_ENTRIES: usize = 1_000_000;
 
@@ -91,10 +94,7 @@ fn entries(text: &str, option: &str) -> Result<Vec<(Vec<String>, f64)>, String> 
 
 impl ViscousArgs {
     /// The coefficients `(B_l, B_q)` for the body's DOFs `names` (`None` without --viscous).
-    pub fn coefficients(
-        &self,
-        names: &[String],
-    ) -> Result<Option<(DMatrix<f64>, DVector<f64>)>, String> {
+    pub fn coefficients(&self, names: &[String]) -> Result<Option<Coefficients>, String> {
         if !self.viscous {
             return Ok(None);
         }

@@ -218,4 +218,41 @@ mod tests {
             .with_viscous(&DMatrix::zeros(2, 2), &DVector::zeros(3));
         assert!(wrong.is_err());
     }
+
+    #[test]
+    fn both_descriptions_declare_the_variables_and_the_extra_unit() {
+        use crate::fmu::description::{DescriptionInfo, FIXED_XML};
+        let info = DescriptionInfo {
+            model_identifier: "Viscous".into(),
+            guid: "{viscous}".into(),
+            ..Default::default()
+        };
+        let plain = Layout::new(dofs(), false).unwrap();
+        let viscous = plain
+            .clone()
+            .with_viscous(&DMatrix::identity(3, 3), &DVector::from_element(3, 2.0))
+            .unwrap();
+        for fmi3 in [false, true] {
+            let write = |layout: &Layout| match fmi3 {
+                false => layout.model_description(FIXED_XML, &info).unwrap(),
+                true => layout.model_description_fmi3(FIXED_XML, &info).unwrap(),
+            };
+            let (without, with) = (write(&plain), write(&viscous));
+            assert!(!without.contains("kg/m2") && !without.contains("current.speed"));
+            let root = crate::xml::parse(&with).unwrap();
+            let units: Vec<_> = root
+                .descendants()
+                .filter(|e| e.name == "Unit")
+                .filter_map(|e| e.attribute("name"))
+                .collect();
+            assert_eq!(units.iter().filter(|u| **u == "kg/m2").count(), 1);
+            for name in [
+                "current.heading",
+                "force_viscous.roll",
+                "damping_linear[3,3]",
+            ] {
+                assert!(with.contains(&format!("name=\"{name}\"")), "{name}");
+            }
+        }
+    }
 }
