@@ -552,23 +552,28 @@ impl Model {
         }
     }
 
-    /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
-    /// messages; its Debug form where the layout has no such variable.
-    pub fn variable_name(&self, quantity: Quantity) -> String {
+    /// The FMU variables of this component (DOF length exponents 0: units are the
+    /// archive's business), with the drift and viscous variables it was packed with.
+    pub fn layout(&self) -> Result<Layout, crate::fmu::variables::VariablesError> {
         let dofs = self
             .dof_names()
             .iter()
             .map(|name| DofUnit::new(name, 0, false))
             .collect();
-        Layout::new(dofs, self.system.keep_inf_mass)
-            .and_then(|layout| match self.drift {
-                Some(_) => layout.with_drift(),
-                None => Ok(layout),
-            })
-            .and_then(|layout| match &self.viscous {
-                Some(v) => layout.with_viscous(&v.linear, &v.quadratic),
-                None => Ok(layout),
-            })
+        let mut layout = Layout::new(dofs, self.system.keep_inf_mass)?;
+        if self.drift.is_some() {
+            layout = layout.with_drift()?;
+        }
+        if let Some(v) = &self.viscous {
+            layout = layout.with_viscous(&v.linear, &v.quadratic)?;
+        }
+        Ok(layout)
+    }
+
+    /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
+    /// messages; its Debug form where the layout has no such variable.
+    pub fn variable_name(&self, quantity: Quantity) -> String {
+        self.layout()
             .ok()
             .and_then(|layout| {
                 let reference = layout.value_reference(quantity)?;

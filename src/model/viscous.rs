@@ -223,11 +223,20 @@ impl Viscous {
     }
 }
 
-/// Refuses a value `quantity` (a viscous coefficient or the current) cannot take, naming
-/// it (the positive semidefinite `damping_linear` is checked as a whole when
-/// initialization ends).
-pub fn check_value(quantity: Quantity, value: f64) -> Result<(), String> {
+/// Refuses a value `quantity` (a viscous coefficient or the current) cannot take, and a
+/// coefficient set after initialization (`initializing` false), naming it (the positive
+/// semidefinite `damping_linear` is checked as a whole when initialization ends).
+pub fn check_value(quantity: Quantity, value: f64, initializing: bool) -> Result<(), String> {
     match quantity {
+        Quantity::DampingLinear(i, j) if !initializing => Err(format!(
+            "damping_linear[{},{}] is a fixed parameter: set it before initialization mode ends",
+            i + 1,
+            j + 1
+        )),
+        Quantity::DampingQuadratic(i) if !initializing => Err(format!(
+            "damping_quadratic[{}] is a fixed parameter: set it before initialization mode ends",
+            i + 1
+        )),
         Quantity::DampingLinear(i, j) => check_linear(i, j, value),
         Quantity::DampingQuadratic(i) => check_quadratic(i, value),
         Quantity::CurrentSpeed if !value.is_finite() => {
