@@ -6,7 +6,9 @@
 //! sea without drift); and in calm water the branch-chain network of
 //! the same data (`CoupledMethod::Chains`), for the ratio in one run; and the calm step of the
 //! default network through the FMI 3.0 functions (fmi3SetFloat64, fmi3DoStep, fmi3GetFloat64).
-//! The baseline of the same run: the plain dense step of the default network, no FMI around it
+//! In calm water with viscous damping and a current (`resources/viscous.csv`: a diagonal
+//! linear and a quadratic damping in every DOF, `current.speed` 0.5 m/s; target <= 1 us, for
+//! the ratio to the calm step without them). The baseline of the same run: the plain dense step of the default network, no FMI around it
 //! (`x+ = Phi x + Gamma0 u + Gamma1 u'`, `y = C x+ + D u` with dense matrices, 9 velocities
 //! copied in and 9 forces out); the FMU step's cost is quoted as a ratio to it.
 //! The same radiation force by direct convolution: `cargo bench -p fmu-pack --bench
@@ -48,6 +50,7 @@ fn step(c: &mut Criterion) {
             "JONSWAP, 64 components, with slow drift",
         ],
     );
+    bench_viscous(c, NETWORK);
     bench_fmi3(c, NETWORK);
     bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
 }
@@ -204,6 +207,81 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
             });
             fmi2FreeInstance(comp);
         }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The calm-water step of an FMU with viscous damping in every DOF and a current.
+fn bench_viscous(c: &mut Criterion, text: &str) {
+    use hydrofmu::fmu::variables::Quantity;
+    use hydrofmu::fmu::{DofUnit, Layout};
+    let (dir, _) = resources(text, "viscous");
+    let network = Network::from_xml_str(text, "network.xml").unwrap();
+    let names = network.dof_names.clone();
+    let n = names.len();
+    let linear = nalgebra::DMatrix::from_diagonal_element(n, n, 200.0);
+    let quadratic = DVector::from_element(n, 1000.0);
+    let csv = hydrofmu::model::viscous::write_csv(&names, &linear, &quadratic);
+    std::fs::write(dir.join(Resources::VISCOUS_FILE), csv).unwrap();
+    let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
+    let uri = CString::new(format!("file://{}", dir.display())).unwrap();
+    let callbacks = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut::<c_void>(),
+    };
+    let dofs = names.iter().map(|d| DofUnit::new(d, 0, false)).collect();
+    let layout = Layout::new(dofs, false)
+        .unwrap()
+        .with_drift()
+        .unwrap()
+        .with_viscous(&linear, &quadratic)
+        .unwrap();
+    let speed = [layout.value_reference(Quantity::CurrentSpeed).unwrap()];
+    let states = network.state_space().unwrap().state_count();
+    let velocity: Vec<u32> = (0..n as u32)
+        .map(|i| FIRST_PER_HULL_REFERENCE + i)
+        .collect();
+    let force: Vec<u32> = (0..n as u32)
+        .map(|i| FIRST_PER_HULL_REFERENCE + n as u32 + i)
+        .collect();
+    unsafe {
+        let comp = fmi2Instantiate(
+            c"bench".as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            uri.as_ptr(),
+            &callbacks,
+            0,
+            0,
+        );
+        assert!(!comp.is_null());
+        assert_eq!(fmi2EnterInitializationMode(comp), fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(comp), fmi2OK);
+        assert_eq!(fmi2SetReal(comp, speed.as_ptr(), 1, &0.5), fmi2OK);
+        let h = 0.01;
+        let (mut t, mut k) = (0.0, 0u64);
+        let (mut v, mut f) = (vec![0.0; n], vec![0.0; n]);
+        let name = format!(
+            "doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states, calm water, viscous damping and current"
+        );
+        c.bench_function(&name, |b| {
+            b.iter(|| {
+                let phase = (k % 1000) as f64 * 1e-3;
+                for (i, x) in v.iter_mut().enumerate() {
+                    *x = phase + i as f64 * 0.1;
+                }
+                assert_eq!(fmi2SetReal(comp, velocity.as_ptr(), n, v.as_ptr()), fmi2OK);
+                assert_eq!(fmi2DoStep(comp, t, h, 1), fmi2OK);
+                t = (k + 1) as f64 * h;
+                k += 1;
+                assert_eq!(fmi2GetReal(comp, force.as_ptr(), n, f.as_mut_ptr()), fmi2OK);
+                black_box(&f);
+            })
+        });
+        fmi2FreeInstance(comp);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -287,6 +287,9 @@ pub struct PackArgs {
     /// The floating section whose drift --drift packs.
     #[command(flatten)]
     pub floating: FloatingArgs,
+    /// Viscous damping and current (`--viscous`, `--damping-linear`, `--damping-quadratic`).
+    #[command(flatten)]
+    pub viscous: crate::viscous_args::ViscousArgs,
     /// Output archive (.fmu).
     #[arg(short = 'o', long)]
     pub output: PathBuf,

@@ -168,7 +168,7 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
              narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
         )));
     }
-    let mut body = Body::whole(&fitted.database, None)?;
+    let mut body = args.viscous.apply(Body::whole(&fitted.database, None)?)?;
     if args.drift {
         if fitted.database.drift.is_empty() {
             return Err(PackError(format!(

@@ -26,6 +26,7 @@ mod pipeline;
 mod progress;
 mod ship_cmd;
 mod sweep_cmd;
+mod viscous_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -26,7 +26,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let floating = floating_for_drift(args)?;
-    let hull = Body::section(&resolved);
+    let hull = args.viscous.apply(Body::section(&resolved))?;
     let mut report = None;
     let network = match &args.network {
         Some(path) => {

@@ -20,7 +20,7 @@ use super::types::{
 };
 use super::uri::{resource_path, ResourceLocationError};
 use crate::fmu::description::{MAX_OUTPUT_DERIVATIVE_ORDER, PARAMETERS};
-use crate::fmu::{DofUnit, Layout, Quantity, ResourcesError, VariablesError};
+use crate::fmu::{Layout, Quantity, ResourcesError, VariablesError};
 use crate::model::{Model, ModelError, ModelState, Resources};
 use references::StepReferences;
 use std::collections::HashSet;
@@ -210,16 +210,7 @@ impl Instance {
         logging_on: bool,
     ) -> Result<Instance, InstantiateError> {
         let model = Model::from_resources(resources).map_err(InstantiateError::Model)?;
-        let dofs = model
-            .dof_names()
-            .iter()
-            .map(|n| DofUnit::new(n, 0, false))
-            .collect();
-        let mut layout =
-            Layout::new(dofs, resources.keep_inf_mass).map_err(InstantiateError::Variables)?;
-        if model.drift_table().is_some() {
-            layout = layout.with_drift().map_err(InstantiateError::Variables)?;
-        }
+        let layout = model.layout().map_err(InstantiateError::Variables)?;
         let mut instance = Instance {
             name: name.to_owned(),
             log: LogSwitches::new(logging_on),
@@ -571,6 +562,12 @@ impl Instance {
                     Quantity::G => {
                         g = *x;
                         parameters = true;
+                    }
+                    Quantity::DampingLinear(..)
+                    | Quantity::DampingQuadratic(_)
+                    | Quantity::CurrentSpeed
+                    | Quantity::CurrentHeading => {
+                        crate::model::viscous::check_value(q, *x, before_init)?
                     }
                     Quantity::Velocity(_) | Quantity::Acceleration(_) => {
                         // Checked before anything is set: a refused call changes nothing.

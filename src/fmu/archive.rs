@@ -12,6 +12,7 @@
 //! resources/excitation.csv                    the exciting force, when swept or imported
 //! resources/hydrostatics.csv                  the restoring of a whole body
 //! resources/drift.csv                         the mean drift table, when packed with one
+//! resources/viscous.csv                       the viscous damping, when packed with it
 //! documentation/index.html                    summary, coefficients, variables, reports
 //! documentation/plots/fit-<i>-<j>.svg         fit against data, when given
 //! documentation/scene.txt                     the scene or fit report, when given
@@ -77,10 +78,12 @@ use super::description::FIXED_XML;
 use super::{osp, DescriptionInfo, DofUnit, Extent, Layout, Resources};
 use crate::database::Database;
 use crate::hull::Hull;
+use crate::model::viscous::{parse_csv, write_csv, Viscous};
 use crate::model::{Model, ModelOptions};
 use crate::network::Network;
 use crate::sweep::{ExcitationPart, SweepResult};
 use crate::xml::escape;
+use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -151,6 +154,8 @@ pub struct Body {
     pub excitation_csv: Option<String>,
     /// The mean drift table, packed as `resources/drift.csv` ([`Body::with_sweep_drift`]).
     pub drift_csv: Option<String>,
+    /// Viscous damping `(B_l, B_q)` in the body's DOF order ([`Body::with_viscous`]).
+    pub viscous: Option<(DMatrix<f64>, DVector<f64>)>,
     /// A fit report for the documentation and `documentation/scene.txt` (a whole body).
     pub report: Option<String>,
 }
@@ -175,6 +180,7 @@ impl Body {
             hydrostatics_csv: None,
             excitation_csv: None,
             drift_csv: None,
+            viscous: None,
             report: None,
         }
     }
@@ -203,6 +209,7 @@ impl Body {
             ),
             excitation_csv,
             drift_csv: None,
+            viscous: None,
             report,
         })
     }
@@ -304,6 +311,41 @@ impl Body {
             .map_err(|e| format!("cannot format the drift table: {e}"))?;
         self.drift_csv = Some(String::from_utf8_lossy(&text).into_owned());
         Ok(self)
+    }
+
+    /// The body with viscous damping `-B_l v_r - B_q |v_r| v_r` (`linear` n x n, `quadratic`
+    /// n, in the body's DOF order; docs/CURRENT.md): the FMU gets `damping_linear`,
+    /// `damping_quadratic` (start values these), `current.speed`, `current.heading` and
+    /// `force_viscous`. Coefficients that are not finite, negative or not positive
+    /// semidefinite are refused, naming the parameter.
+    pub fn with_viscous(
+        mut self,
+        linear: DMatrix<f64>,
+        quadratic: DVector<f64>,
+    ) -> Result<Body, ArchiveError> {
+        let names: Vec<String> = self.dofs.iter().map(|d| d.name.clone()).collect();
+        Viscous::new(&names, linear.clone(), quadratic.clone())?;
+        self.viscous = Some((linear, quadratic));
+        Ok(self)
+    }
+
+    /// `resources/viscous.csv` for the network's DOFs `names` (a subset of the body's).
+    fn viscous_csv(&self, names: &[String]) -> Result<Option<String>, ArchiveError> {
+        let Some((linear, quadratic)) = &self.viscous else {
+            return Ok(None);
+        };
+        let index = names
+            .iter()
+            .map(|n| {
+                self.dofs.iter().position(|d| &d.name == n).ok_or_else(|| {
+                    format!("viscous damping: the network's DOF '{n}' is not the body's")
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let k = index.len();
+        let linear = DMatrix::from_fn(k, k, |i, j| linear[(index[i], index[j])]);
+        let quadratic = DVector::from_fn(k, |i, _| quadratic[index[i]]);
+        Ok(Some(write_csv(names, &linear, &quadratic)))
     }
 }
 
@@ -470,7 +512,8 @@ impl Archive {
             Resources::with_options(self.network.xml.clone(), body.xml.clone(), keep_inf_mass)
                 .with_excitation(body.excitation_csv.clone())
                 .with_hydrostatics(body.hydrostatics_csv.clone())
-                .with_drift(body.drift_csv.clone());
+                .with_drift(body.drift_csv.clone())
+                .with_viscous(body.viscous_csv(&self.network.network.dof_names)?);
         // The GUID is that of the packed texts.
         let guid = resources.guid();
         let options = ModelOptions {
@@ -498,6 +541,12 @@ impl Archive {
         if let Some(text) = &resources.drift_csv {
             crate::model::drift_table(text, model.dof_names()).map_err(|e| e.to_string())?;
             layout = layout.with_drift().map_err(|e| e.to_string())?;
+        }
+        if let Some(text) = &resources.viscous_csv {
+            let (linear, quadratic) = parse_csv(text, model.dof_names())?;
+            layout = layout
+                .with_viscous(&linear, &quadratic)
+                .map_err(|e| e.to_string())?;
         }
         let system = model.system();
         let model_name = format!("hydrofmu {}", body.name);
@@ -568,6 +617,7 @@ impl Archive {
             (Resources::EXCITATION_FILE, &resources.excitation_csv),
             (Resources::HYDROSTATICS_FILE, &resources.hydrostatics_csv),
             (Resources::DRIFT_FILE, &resources.drift_csv),
+            (Resources::VISCOUS_FILE, &resources.viscous_csv),
         ];
         for (file, text) in optional {
             if let Some(text) = text {

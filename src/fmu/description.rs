@@ -149,6 +149,22 @@ impl Layout {
                     }
                     writer.write_event(Event::Empty(cs)).map_err(|e| err(&e))?;
                 }
+                Event::End(e) if e.name().as_ref() == b"UnitDefinitions" => {
+                    let extra = self.extra_unit_events();
+                    if !extra.is_empty() {
+                        let indent = BytesText::from_escaped("  ");
+                        writer
+                            .write_event(Event::Text(indent))
+                            .map_err(|e| err(&e))?;
+                        for event in extra {
+                            writer.write_event(event).map_err(|e| err(&e))?;
+                        }
+                        writer
+                            .write_event(Event::Text(BytesText::from_escaped("\n  ")))
+                            .map_err(|e| err(&e))?;
+                    }
+                    writer.write_event(Event::End(e)).map_err(|e| err(&e))?;
+                }
                 Event::Start(e) if e.name().as_ref() == b"ModelVariables" => {
                     in_variables = true;
                     writer.write_event(Event::Start(e)).map_err(|e| err(&e))?;
@@ -186,6 +202,25 @@ impl Layout {
             text.push('\n');
         }
         Ok(text)
+    }
+
+    /// The unit definitions the variables need beyond those of the fixed XML: `kg/m2` of a
+    /// section's quadratic damping ([`Layout::with_viscous`]); none otherwise, so the
+    /// descriptions of FMUs without it stay as they were.
+    pub(super) fn extra_unit_events(&self) -> Vec<Event<'static>> {
+        if !self.variables.iter().any(|v| v.unit == "kg/m2") {
+            return Vec::new();
+        }
+        let mut unit = BytesStart::new("Unit");
+        unit.push_attribute(("name", "kg/m2"));
+        let mut base = BytesStart::new("BaseUnit");
+        base.push_attribute(("kg", "1"));
+        base.push_attribute(("m", "-2"));
+        vec![
+            Event::Start(unit),
+            Event::Empty(base),
+            Event::End(BytesEnd::new("Unit")),
+        ]
     }
 
     fn write_variables(
@@ -310,6 +345,24 @@ impl Layout {
         if self.drift {
             for i in 0..n {
                 outputs.push((self.index_of(Quantity::ForceDrift(i)), Vec::new(), "fixed"));
+            }
+        }
+        if self.viscous {
+            // The viscous force is nonlinear in the velocities and the current: it (and the
+            // force) may depend on every velocity and on both current inputs.
+            let mut viscous_deps = velocity.clone();
+            viscous_deps.push(self.index_of(Quantity::CurrentSpeed));
+            viscous_deps.push(self.index_of(Quantity::CurrentHeading));
+            for i in 0..n {
+                let force = self.index_of(Quantity::Force(i));
+                if let Some(entry) = outputs.iter_mut().find(|o| o.0 == force) {
+                    entry.1.extend(&viscous_deps);
+                    entry.1.sort_unstable();
+                    entry.1.dedup();
+                    entry.2 = "dependent";
+                }
+                let index = self.index_of(Quantity::ForceViscous(i));
+                outputs.push((index, viscous_deps.clone(), "dependent"));
             }
         }
         outputs.sort_by_key(|o| o.0);

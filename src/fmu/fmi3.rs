@@ -207,8 +207,11 @@ impl Layout {
                     depth_copy += 1;
                     copied.push(event.into_owned());
                 }
-                Event::End(_) if depth_copy > 0 => {
+                Event::End(e) if depth_copy > 0 => {
                     depth_copy -= 1;
+                    if depth_copy == 0 && e.name().as_ref() == b"UnitDefinitions" {
+                        copied.extend(self.extra_unit_events());
+                    }
                     copied.push(event.into_owned());
                 }
                 Event::Empty(e) if depth_copy > 0 && e.name().as_ref() == b"Category" => {

@@ -33,6 +33,9 @@ pub struct Inspection {
     pub keep_inf_mass: bool,
     /// Packed with a drift table (`resources/drift.csv`: `wave.drift`, `force_drift.<dof>`).
     pub drift: bool,
+    /// Packed with viscous damping (`resources/viscous.csv`: `damping_linear`,
+    /// `damping_quadratic`, `current.speed`, `current.heading`, `force_viscous.<dof>`).
+    pub viscous: bool,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -73,6 +76,12 @@ impl fmt::Display for Inspection {
             writeln!(
                 f,
                 "drift             mean drift table (wave.drift 1 mean, 2 slow drift; force_drift.<dof>)"
+            )?;
+        }
+        if self.viscous {
+            writeln!(
+                f,
+                "viscous           damping_linear, damping_quadratic; current.speed, current.heading; force_viscous.<dof>"
             )?;
         }
         match &self.scene {
@@ -158,12 +167,17 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         &mut archive,
         &format!("resources/{}", Resources::DRIFT_FILE),
     )?;
+    let viscous = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::VISCOUS_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options)
         .map_err(|e| e.to_string())?
         .with_excitation(excitation)
         .with_hydrostatics(hydrostatics)
-        .with_drift(drift);
+        .with_drift(drift)
+        .with_viscous(viscous);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
@@ -177,6 +191,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         states: model.network_states(),
         keep_inf_mass: resources.keep_inf_mass,
         drift: resources.drift_csv.is_some(),
+        viscous: resources.viscous_csv.is_some(),
         entries,
         scene,
     };

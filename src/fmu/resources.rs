@@ -7,6 +7,7 @@
 //! resources/excitation.csv  the exciting force table (docs/WAVES.md), when packed with one
 //! resources/hydrostatics.csv  the restoring C / (rho g) of a body without a hull file (a ship)
 //! resources/drift.csv     the mean drift table (docs/WAVES.md), when packed with one
+//! resources/viscous.csv   the viscous damping coefficients (docs/CURRENT.md), when packed with them
 //! ```
 //!
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
@@ -68,6 +69,8 @@ pub struct Resources {
     pub hydrostatics_csv: Option<String>,
     /// Text of `drift.csv`, the mean drift table, when the FMU models the drift force.
     pub drift_csv: Option<String>,
+    /// Text of `viscous.csv`, the viscous damping, when the FMU models it.
+    pub viscous_csv: Option<String>,
 }
 
 impl Resources {
@@ -83,6 +86,16 @@ impl Resources {
     pub const HYDROSTATICS_FILE: &'static str = "hydrostatics.csv";
     /// The mean drift table (optional; `crate::waves::DriftTable`).
     pub const DRIFT_FILE: &'static str = "drift.csv";
+    /// The viscous damping coefficients (optional).
+    pub const VISCOUS_FILE: &'static str = "viscous.csv";
+
+    /// The same resources with the viscous damping `text`, or without one.
+    pub fn with_viscous(self, text: Option<String>) -> Resources {
+        Resources {
+            viscous_csv: text,
+            ..self
+        }
+    }
 
     /// The same resources with the drift table `text`, or without one.
     pub fn with_drift(self, text: Option<String>) -> Resources {
@@ -131,6 +144,7 @@ impl Resources {
             excitation_csv: None,
             hydrostatics_csv: None,
             drift_csv: None,
+            viscous_csv: None,
         })
     }
 
@@ -159,10 +173,12 @@ impl Resources {
         let excitation = optional(Self::EXCITATION_FILE)?;
         let hydrostatics = optional(Self::HYDROSTATICS_FILE)?;
         let drift = optional(Self::DRIFT_FILE)?;
+        let viscous = optional(Self::VISCOUS_FILE)?;
         Ok(Resources::new(network, hull, options)?
             .with_excitation(excitation)
             .with_hydrostatics(hydrostatics)
-            .with_drift(drift))
+            .with_drift(drift)
+            .with_viscous(viscous))
     }
 
     /// Resources from the network text and the flags (the options text is written, not
@@ -180,6 +196,7 @@ impl Resources {
             excitation_csv: None,
             hydrostatics_csv: None,
             drift_csv: None,
+            viscous_csv: None,
         }
     }
 
@@ -209,6 +226,10 @@ impl Resources {
         // Absent: the GUID of an FMU without drift stays what it was.
         if let Some(d) = &self.drift_csv {
             parts.push((Self::DRIFT_FILE, d.as_bytes()));
+        }
+        // Absent: the GUID of an FMU without viscous damping stays what it was.
+        if let Some(v) = &self.viscous_csv {
+            parts.push((Self::VISCOUS_FILE, v.as_bytes()));
         }
         content_guid(&parts)
     }

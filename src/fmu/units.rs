@@ -51,6 +51,11 @@ impl Extent {
         ["N.s/m2", "N.s/m", "N.s", "N.s.m"][usize::from(sum.min(2)) + self.shift()]
     }
 
+    /// Unit of `damping_quadratic[i]` (force per velocity squared) for a DOF of exponent `e`.
+    pub fn quadratic_damping_unit(self, e: u8) -> &'static str {
+        ["kg/m2", "kg/m", "kg.m", "kg.m2"][2 * usize::from(e.min(1)) + self.shift()]
+    }
+
     /// Unit of `stiffness_hydrostatic[i,j]` for `e_i + e_j`.
     pub fn stiffness_unit(self, sum: u8) -> &'static str {
         ["N/m2", "N/m", "N", "N.m"][usize::from(sum.min(2)) + self.shift()]

@@ -44,6 +44,8 @@ use crate::fmu::description::{
 use crate::fmu::units::{DofUnit, Extent};
 use std::fmt;
 
+mod viscous;
+
 /// Why a layout or a model description could not be made.
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -201,6 +203,16 @@ pub enum Quantity {
     Energy,
     /// Wave drift force (output, only with a drift table).
     ForceDrift(usize),
+    /// Viscous force (output, only with viscous damping: [`Layout::with_viscous`]).
+    ForceViscous(usize),
+    /// Current speed (input, m/s; only with viscous damping).
+    CurrentSpeed,
+    /// Current heading (input, deg; only with viscous damping).
+    CurrentHeading,
+    /// Linear viscous damping entry (parameter; only with viscous damping).
+    DampingLinear(usize, usize),
+    /// Quadratic viscous damping of a DOF (parameter; only with viscous damping).
+    DampingQuadratic(usize),
 }
 
 /// FMI causality.
@@ -268,6 +280,8 @@ pub struct Layout {
     pub(super) variables: Vec<Variable>,
     /// `force_drift` and `wave.drift` exist ([`Layout::with_drift`]).
     pub(super) drift: bool,
+    /// The viscous damping and current variables exist ([`Layout::with_viscous`]).
+    pub(super) viscous: bool,
 }
 
 /// The codes `wave.drift` accepts (declared min and max).
@@ -346,6 +360,7 @@ impl Layout {
             extent,
             variables: Vec::new(),
             drift: false,
+            viscous: false,
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
@@ -652,6 +667,7 @@ impl Layout {
                 waves_base(n) + 2 * n + 1 + i * n + j
             }
             Quantity::ForceDrift(i) if i < n && self.drift => drift_base(n) + i,
+            q if self.viscous => viscous::offset(q, n)?,
             _ => return None,
         };
         u32::try_from(base + offset).ok()
@@ -696,6 +712,8 @@ impl Layout {
             Quantity::ForceDrift(k - drift_base(n))
         } else if self.drift && k == drift_base(n) + n {
             Quantity::Wave(WaveParameter::Drift)
+        } else if self.viscous {
+            return viscous::quantity(k, n);
         } else {
             return None;
         };

@@ -49,6 +49,9 @@ mod system;
 #[cfg(test)]
 pub(crate) mod tests;
 mod validate;
+pub mod viscous;
+#[cfg(test)]
+mod viscous_tests;
 
 #[cfg(test)]
 pub(crate) use snapshot::tests::{tampered, StateField};
@@ -307,6 +310,8 @@ pub struct Model {
     excitation: Option<ExcitationTable>,
     /// The mean drift table of `resources/drift.csv` (DOFs in the network's order).
     drift: Option<DriftTable>,
+    /// The viscous damping of `resources/viscous.csv` with the current.
+    viscous: Option<viscous::Viscous>,
     /// `C / (rho g)` from `resources/hull.xml`, in the network's DOF order.
     hydrostatics_per_rho_g: Option<DMatrix<f64>>,
     /// The sea of the state's wave parameters, once [`Model::start_waves`] has built it
@@ -341,6 +346,7 @@ impl Model {
             system,
             excitation: None,
             drift: None,
+            viscous: None,
             hydrostatics_per_rho_g: None,
             sea: None,
             waves_started: false,
@@ -380,6 +386,13 @@ impl Model {
         }
         if let Some(text) = &resources.drift_csv {
             model.drift = Some(drift_table(text, &names)?);
+        }
+        if let Some(text) = &resources.viscous_csv {
+            let (linear, quadratic) =
+                viscous::parse_csv(text, &names).map_err(ModelError::Variable)?;
+            model.set_viscous(Some(
+                viscous::Viscous::new(&names, linear, quadratic).map_err(ModelError::Variable)?,
+            ));
         }
         if let Some(text) = &resources.hydrostatics_csv {
             let source = format!("resources/{}", Resources::HYDROSTATICS_FILE);
@@ -428,6 +441,9 @@ impl Model {
     /// g and the start time are final). Returns the sea's notes (fallbacks, energy left
     /// out). Calm water needs no table; waves without one are an error naming the cause.
     pub fn start_waves(&mut self) -> Result<Vec<String>, ModelError> {
+        if let Some(viscous) = &self.viscous {
+            viscous.check().map_err(ModelError::Variable)?;
+        }
         let sea = self.build_sea(&self.state)?;
         let notes = sea.as_ref().map(|s| s.notes().to_vec()).unwrap_or_default();
         self.sea = sea.map(|s| {
@@ -536,19 +552,28 @@ impl Model {
         }
     }
 
-    /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
-    /// messages; its Debug form where the layout has no such variable.
-    pub fn variable_name(&self, quantity: Quantity) -> String {
+    /// The FMU variables of this component (DOF length exponents 0: units are the
+    /// archive's business), with the drift and viscous variables it was packed with.
+    pub fn layout(&self) -> Result<Layout, crate::fmu::variables::VariablesError> {
         let dofs = self
             .dof_names()
             .iter()
             .map(|name| DofUnit::new(name, 0, false))
             .collect();
-        Layout::new(dofs, self.system.keep_inf_mass)
-            .and_then(|layout| match self.drift {
-                Some(_) => layout.with_drift(),
-                None => Ok(layout),
-            })
+        let mut layout = Layout::new(dofs, self.system.keep_inf_mass)?;
+        if self.drift.is_some() {
+            layout = layout.with_drift()?;
+        }
+        if let Some(v) = &self.viscous {
+            layout = layout.with_viscous(&v.linear, &v.quadratic)?;
+        }
+        Ok(layout)
+    }
+
+    /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
+    /// messages; its Debug form where the layout has no such variable.
+    pub fn variable_name(&self, quantity: Quantity) -> String {
+        self.layout()
             .ok()
             .and_then(|layout| {
                 let reference = layout.value_reference(quantity)?;
@@ -826,6 +851,14 @@ impl Model {
                     return Err(refuse("acceleration", i));
                 }
                 self.state.acceleration[i] = value;
+            }
+            Quantity::CurrentSpeed
+            | Quantity::CurrentHeading
+            | Quantity::DampingLinear(..)
+            | Quantity::DampingQuadratic(_)
+                if self.viscous.is_some() =>
+            {
+                self.set_viscous_value(quantity, value)?
             }
             other => {
                 return Err(ModelError::Variable(format!("{other:?} cannot be set")));

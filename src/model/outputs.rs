@@ -59,6 +59,8 @@ pub(super) struct Outputs {
     pub(super) excitation: DVector<f64>,
     /// The drift force of the waves (zero in calm water or without drift).
     pub(super) drift: DVector<f64>,
+    /// The viscous force (zero without viscous damping).
+    pub(super) viscous: DVector<f64>,
     /// Wave elevation at x = 0.
     pub(super) elevation: f64,
     pub(super) power: f64,
@@ -73,6 +75,7 @@ impl Outputs {
             radiation: DVector::zeros(n),
             excitation: DVector::zeros(n),
             drift: DVector::zeros(n),
+            viscous: DVector::zeros(n),
             elevation: 0.0,
             power: 0.0,
             energy: None,
@@ -107,6 +110,11 @@ impl Model {
                 out.drift.fill(0.0);
                 out.elevation = 0.0;
             }
+        }
+        if let Some(viscous) = &mut self.viscous {
+            // Zero coefficients and no current add +-0: the force stays bit for bit.
+            viscous.force(&s.velocity, &mut out.viscous);
+            out.force += &out.viscous;
         }
         out.energy = None;
         self.outputs_valid = true;
@@ -164,6 +172,23 @@ impl Model {
             Quantity::StiffnessHydrostatic(i, j) if i < n && j < n => {
                 self.stiffness_hydrostatic()[(i, j)]
             }
+            Quantity::ForceViscous(i) if i < n && self.viscous.is_some() => {
+                self.refresh();
+                self.outputs.viscous[i]
+            }
+            Quantity::CurrentSpeed
+            | Quantity::CurrentHeading
+            | Quantity::DampingLinear(..)
+            | Quantity::DampingQuadratic(_) => match &self.viscous {
+                Some(v) => match quantity {
+                    Quantity::CurrentSpeed => v.speed,
+                    Quantity::CurrentHeading => v.heading,
+                    Quantity::DampingLinear(i, j) if i < n && j < n => v.linear[(i, j)],
+                    Quantity::DampingQuadratic(i) if i < n => v.quadratic[i],
+                    other => return Err(ModelError::Variable(format!("{other:?} does not exist"))),
+                },
+                None => return Err(ModelError::Variable(format!("{quantity:?} does not exist"))),
+            },
             other => return Err(ModelError::Variable(format!("{other:?} does not exist"))),
         };
         Model::finite(|| self.variable_name(quantity), v)
@@ -221,7 +246,16 @@ impl Model {
             }
             None => 0.0,
         };
+        // The viscous force's rate with the current held: dF/dv v'.
+        let viscous_rate = match &self.viscous {
+            Some(v) => v.jacobian(&s.velocity) * &s.velocity_derivative,
+            None => DVector::zeros(n),
+        };
         match quantity {
+            Quantity::Force(i) if i < n && self.viscous.is_some() => {
+                Ok(fdot[i] + excitation_rate[i] + drift_rate[i] + viscous_rate[i])
+            }
+            Quantity::ForceViscous(i) if i < n && self.viscous.is_some() => Ok(viscous_rate[i]),
             Quantity::Force(i) if i < n && drift_active => {
                 Ok(fdot[i] + excitation_rate[i] + drift_rate[i])
             }
@@ -278,6 +312,9 @@ impl Model {
             return self.parameter_derivative(of, with_respect_to);
         }
         self.refresh();
+        if let Some(value) = self.viscous_partial(of, with_respect_to)? {
+            return Ok(value);
+        }
         let d = &self.system.damping_direct;
         let m = &self.system.added_mass_inf;
         let v = &self.state.velocity;
@@ -349,6 +386,10 @@ impl Model {
         parameter: Quantity,
     ) -> Result<f64, ModelError> {
         let n = self.dof_count();
+        if matches!(of, Quantity::ForceViscous(i) if i < n && self.viscous.is_some()) {
+            // The viscous coefficients are the user's: they depend on neither.
+            return Ok(0.0);
+        }
         let exists = match of {
             Quantity::Force(i) | Quantity::ForceRadiation(i) => i < n,
             Quantity::AddedMassInf(i, j) | Quantity::DampingDirect(i, j) => i < n && j < n,
@@ -366,7 +407,10 @@ impl Model {
                 "{of:?}: the derivative with respect to g is not provided in waves"
             )));
         }
-        let value = self.value(of)?;
+        let mut value = self.value(of)?;
+        if let Quantity::Force(i) = of {
+            value -= self.outputs.viscous[i];
+        }
         if parameter == Quantity::Rho {
             // Every term is proportional to rho.
             return Ok(value / self.system.rho);

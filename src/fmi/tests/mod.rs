@@ -731,3 +731,4 @@ fn logging_is_silent_per_step_unless_log_calls_is_on() {
 mod fmi2_state;
 mod fmi3;
 mod hostile;
+mod viscous;

@@ -30,6 +30,7 @@ fn hull() -> Body {
         hydrostatics_csv: None,
         excitation_csv: None,
         drift_csv: None,
+        viscous: None,
         report: None,
     }
 }
