@@ -350,17 +350,9 @@ fn pack_drift_takes_an_imported_drift_and_refuses_without_one() {
     };
     let (archive, (ok, _, err)) = pack("Slice.fmu");
     assert!(ok, "{err}");
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(&archive).unwrap()).unwrap();
-    let mut text = String::new();
-    std::io::Read::read_to_string(&mut zip.by_name("resources/drift.csv").unwrap(), &mut text)
-        .unwrap();
+    let text = common::archive_member(&archive, "resources/drift.csv").unwrap();
     assert!(text.contains("\nkR,j,heading,value\n"), "{text}");
-    let mut description = String::new();
-    std::io::Read::read_to_string(
-        &mut zip.by_name("modelDescription.xml").unwrap(),
-        &mut description,
-    )
-    .unwrap();
+    let description = common::archive_member(&archive, "modelDescription.xml").unwrap();
     assert!(description.contains("name=\"wave.drift\""));
     assert!(description.contains("name=\"force_drift.sway\""));
     // Without the drift file: refused, saying where the drift comes from.

@@ -191,11 +191,7 @@ fn pack_drift_packs_the_floating_sections_sway_drift_and_refuses_the_rest() {
         if !ok {
             return Err(err);
         }
-        let mut zip = zip::ZipArchive::new(std::fs::File::open(&archive).unwrap()).unwrap();
-        let mut text = String::new();
-        std::io::Read::read_to_string(&mut zip.by_name("resources/drift.csv").unwrap(), &mut text)
-            .unwrap();
-        Ok(text)
+        Ok(common::archive_member(&archive, "resources/drift.csv").unwrap())
     };
     let floating = pack("sway", &["--drift"]).unwrap();
     assert!(

@@ -214,17 +214,9 @@ fn a_ship_s_mean_drift_goes_to_its_table_and_its_archive() {
         archive.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(&archive).unwrap()).unwrap();
-    let mut table = String::new();
-    std::io::Read::read_to_string(&mut zip.by_name("resources/drift.csv").unwrap(), &mut table)
-        .unwrap();
+    let table = common::archive_member(&archive, "resources/drift.csv").unwrap();
     assert!(table.contains("\nkR,j,heading,value\n"), "{table}");
-    let mut description = String::new();
-    std::io::Read::read_to_string(
-        &mut zip.by_name("modelDescription.xml").unwrap(),
-        &mut description,
-    )
-    .unwrap();
+    let description = common::archive_member(&archive, "modelDescription.xml").unwrap();
     assert!(description.contains("name=\"wave.drift\""));
     assert!(description.contains("name=\"force_drift.sway\""));
     let _ = std::fs::remove_dir_all(&dir);

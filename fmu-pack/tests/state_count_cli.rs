@@ -4,7 +4,6 @@
 
 use hydrofmu::fmu::Resources;
 use hydrofmu::model::Model;
-use std::io::Read;
 
 mod common;
 use common::fmu_pack;
@@ -20,13 +19,7 @@ fn number_after(text: &str, label: &str) -> usize {
 }
 
 fn entry(archive: &std::path::Path, name: &str) -> String {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(archive).unwrap()).unwrap();
-    let mut text = String::new();
-    zip.by_name(name)
-        .unwrap()
-        .read_to_string(&mut text)
-        .unwrap();
-    text
+    common::archive_member(archive, name).unwrap()
 }
 
 #[test]

@@ -5,17 +5,13 @@
 use hydrofmu::fmu::Quantity;
 use hydrofmu::fmu::Resources;
 use hydrofmu::model::Model;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 mod common;
 use common::fmu_pack;
 
 fn entry(archive: &Path, name: &str) -> Option<String> {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(archive).unwrap()).unwrap();
-    let mut text = String::new();
-    zip.by_name(name).ok()?.read_to_string(&mut text).unwrap();
-    Some(text)
+    common::archive_member(archive, name)
 }
 
 fn network() -> String {

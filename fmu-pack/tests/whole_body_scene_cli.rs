@@ -1,7 +1,6 @@
 //! One scene for every source: a ship file and an imported database get `fit --form`, the
 //! scene report on standard output and in the archive's `documentation/scene.txt`.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -22,13 +21,7 @@ fn barge() -> String {
 }
 
 fn entry(archive: &Path, name: &str) -> String {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(archive).unwrap()).unwrap();
-    let mut text = String::new();
-    zip.by_name(name)
-        .unwrap()
-        .read_to_string(&mut text)
-        .unwrap();
-    text
+    common::archive_member(archive, name).unwrap()
 }
 
 #[test]

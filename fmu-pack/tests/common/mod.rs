@@ -1,5 +1,7 @@
 //! What the command-line tests share.
 
+use std::io::Read;
+use std::path::Path;
 use std::process::Command;
 
 /// Runs the fmu-pack binary of this build: (success, standard output, standard error).
@@ -13,4 +15,13 @@ pub fn fmu_pack(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&output.stdout).into_owned(),
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
+}
+
+/// The text of the member `name` of the archive at `archive`; `None` when it has none.
+#[allow(dead_code)] // Not every test file reads archives.
+pub fn archive_member(archive: &Path, name: &str) -> Option<String> {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(archive).unwrap()).unwrap();
+    let mut text = String::new();
+    zip.by_name(name).ok()?.read_to_string(&mut text).unwrap();
+    Some(text)
 }
