@@ -136,16 +136,43 @@ fn synthetic_drift_csv() -> String {
     text
 }
 
-fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
-    let (dir, guid) = resources(text, &label.len().to_string());
-    let uri = CString::new(format!("file://{}", dir.display())).unwrap();
-    let callbacks = fmi2CallbackFunctions {
+/// Callbacks without a logger or memory functions.
+fn silent_callbacks() -> fmi2CallbackFunctions {
+    fmi2CallbackFunctions {
         logger: None,
         allocateMemory: None,
         freeMemory: None,
         stepFinished: None,
         componentEnvironment: std::ptr::null_mut::<c_void>(),
-    };
+    }
+}
+
+/// A co-simulation instance of the resources at `uri`.
+///
+/// # Safety
+/// `callbacks` must outlive the instance.
+unsafe fn instantiate(
+    guid: &CString,
+    uri: &CString,
+    callbacks: &fmi2CallbackFunctions,
+) -> fmi2Component {
+    let comp = fmi2Instantiate(
+        c"bench".as_ptr(),
+        fmi2CoSimulation,
+        guid.as_ptr(),
+        uri.as_ptr(),
+        callbacks,
+        0,
+        0,
+    );
+    assert!(!comp.is_null());
+    comp
+}
+
+fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
+    let (dir, guid) = resources(text, &label.len().to_string());
+    let uri = CString::new(format!("file://{}", dir.display())).unwrap();
+    let callbacks = silent_callbacks();
     let network = Network::from_xml_str(text, "network.xml").unwrap();
     let states = network.state_space().unwrap().state_count();
     let n = network.dof_count() as u32;
@@ -153,16 +180,7 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
     let force: Vec<u32> = (0..n).map(|i| FIRST_PER_HULL_REFERENCE + n + i).collect();
     for &sea in seas {
         unsafe {
-            let comp = fmi2Instantiate(
-                c"bench".as_ptr(),
-                fmi2CoSimulation,
-                guid.as_ptr(),
-                uri.as_ptr(),
-                &callbacks,
-                0,
-                0,
-            );
-            assert!(!comp.is_null());
+            let comp = instantiate(&guid, &uri, &callbacks);
             assert_eq!(fmi2EnterInitializationMode(comp), fmi2OK);
             if sea.starts_with("JONSWAP") {
                 let kind = [VR_WAVE_KIND];
@@ -225,13 +243,7 @@ fn bench_viscous(c: &mut Criterion, text: &str) {
     std::fs::write(dir.join(Resources::VISCOUS_FILE), csv).unwrap();
     let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
     let uri = CString::new(format!("file://{}", dir.display())).unwrap();
-    let callbacks = fmi2CallbackFunctions {
-        logger: None,
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut::<c_void>(),
-    };
+    let callbacks = silent_callbacks();
     let dofs = names.iter().map(|d| DofUnit::new(d, 0, false)).collect();
     let layout = Layout::new(dofs, false)
         .unwrap()
@@ -248,16 +260,7 @@ fn bench_viscous(c: &mut Criterion, text: &str) {
         .map(|i| FIRST_PER_HULL_REFERENCE + n as u32 + i)
         .collect();
     unsafe {
-        let comp = fmi2Instantiate(
-            c"bench".as_ptr(),
-            fmi2CoSimulation,
-            guid.as_ptr(),
-            uri.as_ptr(),
-            &callbacks,
-            0,
-            0,
-        );
-        assert!(!comp.is_null());
+        let comp = instantiate(&guid, &uri, &callbacks);
         assert_eq!(fmi2EnterInitializationMode(comp), fmi2OK);
         assert_eq!(fmi2ExitInitializationMode(comp), fmi2OK);
         assert_eq!(fmi2SetReal(comp, speed.as_ptr(), 1, &0.5), fmi2OK);
