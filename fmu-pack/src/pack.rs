@@ -18,7 +18,17 @@ use hydrofmu::source::Source;
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     // The archive's folder, before the sweep and the fit.
     crate::output::check_folder(&args.output)?;
-    match Source::from_argument(&args.sweep.hull) {
+    let source = Source::from_argument(&args.sweep.hull);
+    let whole_body =
+        matches!(&source, Ok(Source::ShipFile(_))) || matches!(&source, Ok(s) if s.is_import());
+    if whole_body && (args.floating.given() || args.floating.fixed) {
+        return Err(PackError(
+            "--mass, --cog, --gyradius, --mooring and --fixed choose a floating section; a ship's \
+             or an imported database's drift is its own (docs/DRIFT.md)"
+                .into(),
+        ));
+    }
+    match source {
         Ok(Source::ShipFile(_)) => return crate::ship_cmd::pack(args),
         Ok(source) if source.is_import() => return crate::database_cmd::pack(args),
         // A section, or an argument that names nothing: the section's resolve says why.

@@ -204,6 +204,19 @@ fn pack_drift_packs_the_floating_sections_sway_drift_and_refuses_the_rest() {
     assert_ne!(body_and_rows(&floating).1, body_and_rows(&fixed).1);
     let err = pack("sway", &["--mass", "10"]).unwrap_err();
     assert!(err.contains("add --drift"), "{err}");
+    // A ship's drift is its own: mass options are refused, not ignored.
+    let barge = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/ships/barge.xml");
+    let archive = dir.join("Barge.fmu");
+    let (ok, _, err) = fmu_pack(&[
+        "pack",
+        barge,
+        "--drift",
+        "--mass",
+        "10",
+        "-o",
+        archive.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("choose a floating section"), "{err}");
     // Heave and roll drift of the moving section need its pressure integration: refused.
     let err = pack("sway,heave", &["--drift"]).unwrap_err();
     assert!(
