@@ -143,7 +143,7 @@ fn main() {
          the wave's rise and fall: `rho g a^2 n_j / (4 |n_x|)` at each waterline point, `n_j` the \
          mode's normal displacement there); rigid DOFs' drift vanishes there. Ships: the fixed ship's drift \
          by strip theory (`fmu-pack sweep SHIP.xml --drift`, docs/SHIPS.md \"Mean wave drift\": \
-         within 5 % of Capytaine's 3D far field in beam seas); imported WAMIT databases: from \
+         Capytaine's 3D far field gives 0.95-0.98 of it in beam seas); imported WAMIT databases: from \
          `NAME.8` or `NAME.9` (docs/DATABASES.md).\n"
     );
     let _ = writeln!(

@@ -154,17 +154,6 @@ fn wamit_export_of_a_database_reads_back_to_the_same_table() {
     }
 }
 
-/// A folder of its own per test (the tests run in parallel threads).
-fn folder(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "hydrofmu-database-cli-section-{tag}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn text(path: &Path) -> &str {
     path.to_str().unwrap()
 }
@@ -181,7 +170,7 @@ fn inf_entry(table: &str, i: usize, j: usize) -> f64 {
 
 #[test]
 fn a_section_exports_per_unit_length_and_reads_back() {
-    let dir = folder("semicircle");
+    let dir = common::folder("database-cli-section-semicircle");
     let (prefix, nc, csv) = (dir.join("semi"), dir.join("semi.nc"), dir.join("t.csv"));
     let (ok, _, err) = fmu_pack(&[
         "sweep",
@@ -229,7 +218,7 @@ fn a_section_exports_per_unit_length_and_reads_back() {
 
 #[test]
 fn a_hull_file_exports_too() {
-    let dir = folder("pontoon");
+    let dir = common::folder("database-cli-section-pontoon");
     let hull = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/hulls/pontoon.xml");
     let prefix = dir.join("pontoon");
     let (ok, _, err) = fmu_pack(&[
@@ -251,7 +240,7 @@ fn a_hull_file_exports_too() {
 
 #[test]
 fn unwritable_export_paths_are_named() {
-    let dir = folder("unwritable");
+    let dir = common::folder("database-cli-section-unwritable");
     let missing = dir.join("no-such-folder");
     for (flag, path, shown) in [
         ("--wamit", missing.join("x"), missing.join("x.1")),
@@ -332,8 +321,7 @@ fn pack_drift_takes_an_imported_drift_and_refuses_without_one() {
     ]);
     assert!(ok, "{err}");
     assert!(dir.join("slice.9").is_file());
-    let binary = dir.join("libstand-in.so");
-    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let binary = common::stand_in_binary(&dir);
     let pack = |name: &str| {
         let archive = dir.join(name);
         let out = fmu_pack(&[

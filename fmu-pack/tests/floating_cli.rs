@@ -25,13 +25,6 @@ const MOORED: &str =
     "  <mass value=\"displaced\" x=\"0\" y=\"-0.2\" radius_of_gyration=\"0.3\">\n    \
      <mooring dof=\"sway\" stiffness=\"100\"/>\n  </mass>\n";
 
-fn folder(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hydrofmu-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Runs `fmu-pack sweep HULL --kr 0.01:1:3 --panels 32 --rao R --drift D EXTRA..` and returns
 /// (rao, drift) texts.
 fn sweep(dir: &Path, hull: &str, extra: &[&str]) -> Result<(String, String), String> {
@@ -78,7 +71,7 @@ fn body_and_rows(text: &str) -> (String, Vec<String>) {
 
 #[test]
 fn a_hull_files_mass_gives_the_tables_of_the_same_command_line_options() {
-    let dir = folder("floating-file");
+    let dir = common::folder("floating-file");
     let hull = write_hull(&dir, MOORED);
     let from_file = sweep(&dir, hull.to_str().unwrap(), &[]).unwrap();
     let options = [
@@ -117,7 +110,7 @@ fn a_hull_files_mass_gives_the_tables_of_the_same_command_line_options() {
 
 #[test]
 fn fixed_holds_a_section_whose_file_gives_mass_and_refuses_mass_options() {
-    let dir = folder("floating-fixed");
+    let dir = common::folder("floating-fixed");
     let hull = write_hull(&dir, MOORED);
     let hull = hull.to_str().unwrap();
     let drift = dir.join("drift.csv");
@@ -167,10 +160,9 @@ fn fixed_holds_a_section_whose_file_gives_mass_and_refuses_mass_options() {
 
 #[test]
 fn pack_drift_packs_the_floating_sections_sway_drift_and_refuses_the_rest() {
-    let dir = folder("floating-pack");
+    let dir = common::folder("floating-pack");
     let hull = write_hull(&dir, MOORED);
-    let binary = dir.join("libstand-in.so");
-    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let binary = common::stand_in_binary(&dir);
     let pack = |dofs: &str, extra: &[&str]| {
         let archive = dir.join("Float.fmu");
         let mut args = vec![

@@ -192,8 +192,7 @@ fn a_ship_s_mean_drift_goes_to_its_table_and_its_archive() {
             assert_eq!(value, 0.0, "{row:?}");
         }
     }
-    let binary = dir.join("libstand-in.so");
-    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let binary = common::stand_in_binary(&dir);
     let archive = dir.join("Barge.fmu");
     let (ok, _, err) = fmu_pack(&[
         "pack",

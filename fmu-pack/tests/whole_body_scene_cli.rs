@@ -92,8 +92,7 @@ fn one_dof_forms_are_refused_for_several_dofs_naming_the_count() {
 fn the_archive_of_a_database_holds_its_scene_report() {
     let dir = std::env::temp_dir().join(format!("hydrofmu-body-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let binary = dir.join("libstand-in.so");
-    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    let binary = common::stand_in_binary(&dir);
     let archive = dir.join("Sphere.fmu");
     let (ok, summary, err) = fmu_pack(&[
         "pack",

@@ -25,3 +25,20 @@ pub fn archive_member(archive: &Path, name: &str) -> Option<String> {
     zip.by_name(name).ok()?.read_to_string(&mut text).unwrap();
     Some(text)
 }
+
+/// An empty folder of its own for a test named `name` (the tests run in parallel threads).
+#[allow(dead_code)] // Not every test file needs one.
+pub fn folder(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A stand-in for the shared library in `dir`: `fmu-pack pack --binary` packs it unread.
+#[allow(dead_code)] // Not every test file packs.
+pub fn stand_in_binary(dir: &Path) -> std::path::PathBuf {
+    let binary = dir.join("libstand-in.so");
+    std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
+    binary
+}
