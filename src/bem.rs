@@ -790,11 +790,15 @@ fn solve_system(
                             .collect()
                     })
                     .collect();
+                let radiation: Vec<Vec<Complex64>> = (0..dof_count)
+                    .map(|j| (0..body_count).map(|l| from_faer(phi.read(l, j))).collect())
+                    .collect();
                 forces.drift = Some(drift::drift(
                     mesh,
                     k,
                     cosines,
                     &strengths,
+                    &radiation,
                     &body_potential,
                     &incident,
                 ));

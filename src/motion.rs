@@ -246,20 +246,20 @@ impl Floating {
         let (m, [xg, yg], k) = (p.mass, p.centre_of_gravity, p.radius_of_gyration);
         let mut mass = DMatrix::zeros(n, n);
         let mut weight = DMatrix::zeros(n, n);
-        for (a, &(kind_a, point)) in kinds.iter().enumerate() {
-            let (dx, dy) = (xg - point[0], yg - point[1]);
-            // Displacement of G per unit DOF: sway (1, 0), heave (0, 1), roll (-dy, dx).
-            let motion = |kind: RigidKind| match kind {
-                RigidKind::Sway => [1.0, 0.0],
-                RigidKind::Heave => [0.0, 1.0],
-                RigidKind::Roll => [-dy, dx],
-            };
-            for (b, &(kind_b, _)) in kinds.iter().enumerate() {
-                let (u, v) = (motion(kind_a), motion(kind_b));
+        // Displacement of G per unit DOF: sway (1, 0), heave (0, 1), roll about its own
+        // reference point P (-(y_G - y_P), x_G - x_P).
+        let motion = |kind: RigidKind, point: [f64; 2]| match kind {
+            RigidKind::Sway => [1.0, 0.0],
+            RigidKind::Heave => [0.0, 1.0],
+            RigidKind::Roll => [-(yg - point[1]), xg - point[0]],
+        };
+        for (a, &(kind_a, point_a)) in kinds.iter().enumerate() {
+            for (b, &(kind_b, point_b)) in kinds.iter().enumerate() {
+                let (u, v) = (motion(kind_a, point_a), motion(kind_b, point_b));
                 mass[(a, b)] = m * (u[0] * v[0] + u[1] * v[1]);
                 if kind_a == RigidKind::Roll && kind_b == RigidKind::Roll {
                     mass[(a, b)] += m * k * k;
-                    weight[(a, b)] = -m * g * dy;
+                    weight[(a, b)] = -m * g * (yg - point_a[1]);
                 }
             }
         }
@@ -339,6 +339,8 @@ impl Floating {
         }
         let r = sweep.reference_half_beam;
         let length = |j: usize| r.powi(i32::from(sweep.length_exponents[j]));
+        // The sweep's A~ / (rho pi R^2) keeps the DOFs' own units; its exciting force is per
+        // rho g a R^(1 + e_j).
         let area = std::f64::consts::PI * r * r;
         sweep
             .kr
@@ -347,8 +349,7 @@ impl Floating {
             .zip(&sweep.excitation)
             .map(|((kr, added), forces)| {
                 let omega = (kr * g / r).sqrt();
-                let added_per_rho =
-                    DMatrix::from_fn(n, n, |i, j| added[(i, j)] * area * length(i) * length(j));
+                let added_per_rho = added * Complex64::new(area, 0.0);
                 let columns = (0..forces.direct.ncols())
                     .map(|h| {
                         let excitation: Vec<Complex64> = (0..n)
@@ -368,9 +369,12 @@ impl Floating {
     /// for roll), as [`crate::bem::Drift::mean_drift`] gives the fixed section's.
     ///
     /// A rigid sway row is the far field (Maruo) with the waves the motion radiates
-    /// ([`crate::bem::Drift::horizontal_far_field_moving`]). The other rows need the pressure
-    /// integration's terms of the motion, which are not computed yet: they are `NaN`, so no
-    /// caller mistakes them for values.
+    /// ([`crate::bem::Drift::horizontal_far_field_moving`]); the other rows are the pressure
+    /// integration over the moving section ([`crate::bem::Drift::near_field_moving`]: relative
+    /// elevation, velocity squared, the pressure at the moved contour, the rotation of the
+    /// first-order force, the rotation's second-order hydrostatics). Roll is the moment about
+    /// the roll reference point's mean position; an elastic row is the generalized force in
+    /// the body's axes, with the elastic DOFs held.
     ///
     /// # Errors
     /// As [`Floating::sweep_raos`]; a sweep without drift ([`MotionError::OtherSweep`]).
@@ -386,13 +390,14 @@ impl Floating {
                     expected: self.dof_count,
                 })?;
                 let headings = drift.cosines.len().min(rao.ncols());
-                Ok(DMatrix::from_fn(self.dof_count, headings, |j, h| {
-                    if drift.horizontal[j] {
+                let columns: Vec<Vec<f64>> = (0..headings)
+                    .map(|h| {
                         let motion: Vec<Complex64> = rao.column(h).iter().copied().collect();
-                        drift.horizontal_far_field_moving(h, &motion)
-                    } else {
-                        f64::NAN
-                    }
+                        drift.mean_drift_moving(h, &motion)
+                    })
+                    .collect();
+                Ok(DMatrix::from_fn(self.dof_count, headings, |j, h| {
+                    columns[h][j]
                 }))
             })
             .collect()

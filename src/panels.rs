@@ -33,7 +33,7 @@
 //! on the free surface `y = 0` between the two waterline points, inside the body, with the
 //! same clustering toward the corners.
 
-use crate::hull::Hull;
+use crate::hull::{DofKind, Hull, RigidKind};
 use crate::xml::{format_number, Notation};
 use nalgebra::DMatrix;
 use std::fmt;
@@ -174,6 +174,8 @@ pub struct Mesh {
     pub normal_velocity: DMatrix<f64>,
     /// DOF names, in column order.
     pub dof_names: Vec<String>,
+    /// Each DOF's rigid motion (kind and roll reference point), `None` for an elastic DOF.
+    pub rigid: Vec<Option<(RigidKind, Point)>>,
     /// Reference half-beam R of the hull.
     pub reference_half_beam: f64,
     /// `x` of the vertical line the mesh is mirror-symmetric about (exactly: one half's
@@ -681,6 +683,12 @@ pub fn discretize(hull: &Hull, params: &PanelParams) -> Result<Mesh, PanelError>
         lid,
         normal_velocity,
         dof_names: hull.dof_names().iter().map(|s| s.to_string()).collect(),
+        rigid: (0..dof_count)
+            .map(|j| match hull.dof_kind(j) {
+                Some(DofKind::Rigid { kind, reference }) => Some((kind, reference)),
+                _ => None,
+            })
+            .collect(),
         reference_half_beam: hull.reference_half_beam(),
         mirror_axis: axis,
         dropped_vertices,

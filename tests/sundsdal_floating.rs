@@ -104,11 +104,12 @@ fn floating_motion_and_mean_sway_force_agree_with_the_flume() {
     for row in &rows {
         let i = xis.iter().position(|x| *x == row.xi).unwrap();
         let [sway, heave, roll, drift] = values[i];
-        if (row.xi - 0.6).abs() < 1e-9 {
-            // Near the roll resonance potential flow without viscous roll damping overpredicts:
-            // measured 7.2 times the flume's roll (the viscous roll damping to come).
+        if (row.xi - 0.525).abs() < 1e-9 {
+            // The flume's largest roll (h/lambda 0.42: the 1 m flume is shallow here), our
+            // roll resonance at xi_B 0.50: potential flow without viscous roll damping gives
+            // 1.47 times the flume's roll (measured; docs/VISCOUS.md adds the damping).
             let ratio = roll / row.roll;
-            assert!((5.0..=10.0).contains(&ratio), "roll peak ratio {ratio}");
+            assert!((1.3..=1.7).contains(&ratio), "roll peak ratio {ratio}");
         }
         if row.h_over_lambda < DEEP_WATER || row.steepness >= STEEP {
             continue;
@@ -116,28 +117,28 @@ fn floating_motion_and_mean_sway_force_agree_with_the_flume() {
         compared += 1;
         // Measured: heave within 2.2 %.
         assert!(
-            (heave / row.heave - 1.0).abs() <= 0.05,
+            (heave / row.heave - 1.0).abs() <= 0.03,
             "xi {}: heave {heave} {}",
             row.xi,
             row.heave
         );
-        // Measured: sway 1.65-1.73 and roll 1.55-1.80 times the flume's (roll and sway couple;
-        // no viscous roll damping in ours).
+        // Measured: sway 1.09 and 1.25, roll 1.07 times the flume's (no viscous roll damping
+        // in ours).
         let sway_ratio = sway / row.sway;
         assert!(
-            (1.4..=2.0).contains(&sway_ratio),
+            (1.0..=1.35).contains(&sway_ratio),
             "xi {}: sway ratio {sway_ratio}",
             row.xi
         );
         let roll_ratio = roll / row.roll;
         assert!(
-            (1.4..=2.0).contains(&roll_ratio),
+            (1.0..=1.15).contains(&roll_ratio),
             "xi {}: roll ratio {roll_ratio}",
             row.xi
         );
-        // Measured: within 0.124 of the flume's drift coefficient.
+        // Measured: within 0.029 of the flume's drift coefficient (0.68 and 0.71).
         assert!(
-            (drift - row.drift).abs() <= 0.15,
+            (drift - row.drift).abs() <= 0.04,
             "xi {}: drift {drift} {}",
             row.xi,
             row.drift

@@ -159,7 +159,7 @@ fn fixed_holds_a_section_whose_file_gives_mass_and_refuses_mass_options() {
 }
 
 #[test]
-fn pack_drift_packs_the_floating_sections_sway_drift_and_refuses_the_rest() {
+fn pack_drift_packs_the_floating_sections_drift() {
     let dir = common::folder("floating-pack");
     let hull = write_hull(&dir, MOORED);
     let binary = common::stand_in_binary(&dir);
@@ -209,11 +209,25 @@ fn pack_drift_packs_the_floating_sections_sway_drift_and_refuses_the_rest() {
         archive.to_str().unwrap(),
     ]);
     assert!(!ok && err.contains("choose a floating section"), "{err}");
-    // Heave and roll drift of the moving section need its pressure integration: refused.
-    let err = pack("sway,heave", &["--drift"]).unwrap_err();
+    // Heave and roll drift of the moving section by its pressure integration.
+    let all = pack("sway,heave,roll", &["--drift"]).unwrap();
     assert!(
-        err.contains("computed for rigid sway only") && err.contains("; heave need"),
-        "{err}"
+        all.contains("\n# body: floating; mass ") && all.contains("# modes: sway heave roll\n"),
+        "{all}"
     );
+    let (_, rows) = body_and_rows(&all);
+    let (_, sway_rows) = body_and_rows(&floating);
+    // The sway rows are the sway-only archive's (the same motion of the whole hull).
+    let sway_of_all: Vec<&String> = rows
+        .iter()
+        .skip(1)
+        .filter(|l| l.split(',').nth(1) == Some("1"))
+        .collect();
+    assert_eq!(sway_of_all, sway_rows.iter().skip(1).collect::<Vec<_>>());
+    assert_eq!(rows.len() - 1, 3 * (sway_rows.len() - 1));
+    assert!(rows
+        .iter()
+        .skip(1)
+        .all(|l| l.split(',').all(|v| v.parse::<f64>().unwrap().is_finite())));
     let _ = std::fs::remove_dir_all(&dir);
 }

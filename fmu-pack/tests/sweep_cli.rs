@@ -327,8 +327,13 @@ fn a_floating_section_gets_its_motion_and_drift_tables() {
     assert!((heave[3].hypot(heave[4]) - 1.0).abs() < 1e-3, "{heave:?}");
     let drift = std::fs::read_to_string(&drift).unwrap();
     assert!(drift.contains("# body: floating; mass "), "{drift}");
-    // Rigid sway only: 3 frequencies x 2 headings.
-    assert_eq!(rows(&drift, "kR,j,heading,value").len(), 6);
+    // Every DOF: 3 frequencies x 2 headings x 3 DOFs; the two methods' horizontal force in
+    // the header.
+    assert_eq!(rows(&drift, "kR,j,heading,value").len(), 18);
+    assert!(
+        drift.contains("\n# horizontal force, pressure integration - far field"),
+        "{drift}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
     for (extra, message) in [
         (

@@ -46,6 +46,8 @@ use num_complex::Complex64;
 
 use super::{from_faer, unknown_panel};
 
+mod moving;
+
 /// The far-field and drift quantities of one frequency, for the headings 0 and 180 of a
 /// section ([`super::HEADINGS`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -63,6 +65,14 @@ pub struct Drift {
     /// The DOFs whose normal velocity is the panel normal's x component (rigid sway): their
     /// drift is the horizontal force, which the far field gives more accurately.
     pub horizontal: Vec<bool>,
+    /// The near-field drift of the section moving, per `rho g a^2`: for each heading, one
+    /// Hermitian form per row (the DOFs, then the horizontal force) over `z = [1, xi]`, `xi`
+    /// the motion of the rigid DOFs [`Drift::moving`] per unit wave amplitude, so that
+    /// `D_j = z^H Q_j z` (the module `moving` gives the terms). `Q_j[(0, 0)]` is
+    /// [`Drift::near_field`].
+    pub motion_forms: Vec<Vec<DMatrix<Complex64>>>,
+    /// The DOF index of each motion the forms take, after the wave's column: the rigid DOFs.
+    pub moving: Vec<usize>,
 }
 
 impl Drift {
@@ -71,11 +81,27 @@ impl Drift {
         let far = (&self.far_field * Complex64::new(a, 0.0)
             + &other.far_field * Complex64::new(b, 0.0))
             / Complex64::new(c, 0.0);
+        let forms = self
+            .motion_forms
+            .iter()
+            .zip(&other.motion_forms)
+            .map(|(mine, theirs)| {
+                mine.iter()
+                    .zip(theirs)
+                    .map(|(p, q)| {
+                        (p * Complex64::new(a, 0.0) + q * Complex64::new(b, 0.0))
+                            / Complex64::new(c, 0.0)
+                    })
+                    .collect()
+            })
+            .collect();
         Drift {
             far_field: far,
             near_field: (&self.near_field * a + &other.near_field * b) / c,
             cosines: self.cosines.clone(),
             horizontal: self.horizontal.clone(),
+            motion_forms: forms,
+            moving: self.moving.clone(),
         }
     }
 
@@ -149,6 +175,43 @@ impl Drift {
         })
     }
 
+    /// The near-field mean drift per `rho g a^2` of heading `h` on the section moving by
+    /// `motion` per unit wave amplitude (every DOF; only the rigid ones, [`Drift::moving`],
+    /// enter): one value per DOF, then the horizontal force.
+    pub fn near_field_moving(&self, h: usize, motion: &[Complex64]) -> Vec<f64> {
+        let z: Vec<Complex64> = std::iter::once(Complex64::new(1.0, 0.0))
+            .chain(self.moving.iter().map(|&j| motion[j]))
+            .collect();
+        self.motion_forms[h]
+            .iter()
+            .map(|q| {
+                let mut value = Complex64::default();
+                for (a, za) in z.iter().enumerate() {
+                    for (b, zb) in z.iter().enumerate() {
+                        value += za.conj() * q[(a, b)] * zb;
+                    }
+                }
+                value.re
+            })
+            .collect()
+    }
+
+    /// The mean drift per `rho g a^2` of heading `h` on the section moving by `motion`: the
+    /// far field with the radiated waves for a rigid sway DOF, pressure integration for the
+    /// others (as [`Drift::mean_drift`] for the fixed section).
+    pub fn mean_drift_moving(&self, h: usize, motion: &[Complex64]) -> Vec<f64> {
+        let near = self.near_field_moving(h, motion);
+        (0..self.dof_count())
+            .map(|j| {
+                if self.horizontal[j] {
+                    self.horizontal_far_field_moving(h, motion)
+                } else {
+                    near[j]
+                }
+            })
+            .collect()
+    }
+
     /// Keeps the DOF rows `index` (in that order) and the rest.
     pub(crate) fn select(&self, index: &[usize]) -> Drift {
         let dofs = self.dof_count();
@@ -158,11 +221,31 @@ impl Drift {
             .chain(dofs..self.far_field.nrows())
             .collect();
         let near_rows: Vec<usize> = index.iter().copied().chain([dofs]).collect();
+        // The forms keep the motions of the rigid DOFs kept, renumbered.
+        let kept: Vec<(usize, usize)> = self
+            .moving
+            .iter()
+            .enumerate()
+            .filter_map(|(c, j)| index.iter().position(|i| i == j).map(|new| (c + 1, new)))
+            .collect();
+        let columns: Vec<usize> = std::iter::once(0).chain(kept.iter().map(|k| k.0)).collect();
+        let forms = self
+            .motion_forms
+            .iter()
+            .map(|heading| {
+                near_rows
+                    .iter()
+                    .map(|&j| heading[j].select_rows(&columns).select_columns(&columns))
+                    .collect()
+            })
+            .collect();
         Drift {
             far_field: self.far_field.select_rows(&rows),
             near_field: self.near_field.select_rows(&near_rows),
             cosines: self.cosines.clone(),
             horizontal: index.iter().map(|&j| self.horizontal[j]).collect(),
+            motion_forms: forms,
+            moving: kept.iter().map(|k| k.1).collect(),
         }
     }
 }
@@ -293,17 +376,20 @@ fn tangential_derivative(
         .collect()
 }
 
-/// The drift quantities of one wave frequency: the far field of every solved column and the
-/// fixed section's near-field mean force for each heading of `cosines` (all +-1).
+/// The drift quantities of one wave frequency: the far field of every solved column, and for
+/// each heading of `cosines` (all +-1) the near-field mean force of the section fixed and the
+/// forms that give it moving ([`moving`]).
 ///
-/// `strengths`: source strengths (unknowns x (DOFs + headings)); `body_potential`: the
-/// diffraction potential at the body panels, one column per heading; `incident`: the incident
-/// wave's panel means per heading.
+/// `strengths`: source strengths (unknowns x (DOFs + headings)); `radiation`: each DOF's
+/// potential per unit velocity at the body panels; `body_potential`: the diffraction potential
+/// at the body panels, one column per heading; `incident`: the incident wave's panel means per
+/// heading.
 pub(super) fn drift(
     mesh: &Mesh,
     wavenumber: f64,
     cosines: &[f64],
     strengths: &Mat<faer::complex_native::c64>,
+    radiation: &[Vec<Complex64>],
     body_potential: &[Vec<Complex64>],
     incident: &[Vec<(Complex64, Complex64)>],
 ) -> Drift {
@@ -331,29 +417,71 @@ pub(super) fn drift(
             mesh.body[l].normal[0]
         }
     };
+    let motion = moving::Motion::of(mesh);
+    // The moving columns' potentials in elevation units (k phi_j) and their derivatives.
+    let radiated: Vec<Vec<Complex64>> = motion
+        .dofs
+        .iter()
+        .map(|&j| radiation[j].iter().map(|phi| phi * k).collect())
+        .collect();
+    let radiated_tangential: Vec<Vec<Complex64>> = radiated
+        .iter()
+        .map(|f| tangential_derivative(f, &arc, closed, perimeter))
+        .collect();
+    let columns = |first: &[Complex64], rest: &[Vec<Complex64>], l: usize| -> Vec<Complex64> {
+        std::iter::once(first[l])
+            .chain(rest.iter().map(|f| f[l]))
+            .collect()
+    };
     let mut near_field = DMatrix::zeros(dofs + 1, cosines.len());
+    let mut motion_forms = Vec::with_capacity(cosines.len());
     for (h, wave) in incident.iter().enumerate() {
         let psi: Vec<Complex64> = (0..n).map(|l| wave[l].0 + body_potential[h][l]).collect();
         let tangential = tangential_derivative(&psi, &arc, closed, perimeter);
-        for j in 0..=dofs {
-            let velocity_term: f64 = (0..n)
-                .map(|l| tangential[l].norm_sqr() * normal(l, j) * mesh.body[l].length)
-                .sum();
-            let waterline_term: f64 = lines
-                .iter()
-                .map(|&(panels, s)| {
-                    let w = quadratic_weights(panels.map(|l| arc[l]), s);
-                    let at = |f: &dyn Fn(usize) -> f64| -> f64 {
-                        (0..3).map(|m| w[m] * f(panels[m])).sum()
-                    };
-                    let psi_wl: Complex64 = (0..3).map(|m| psi[panels[m]] * w[m]).sum();
-                    let n_x = at(&|l| mesh.body[l].normal[0]).abs();
-                    let n_j = at(&|l| normal(l, j));
-                    psi_wl.norm_sqr() * n_j / (4.0 * n_x.max(1e-3))
-                })
-                .sum();
-            near_field[(j, h)] = waterline_term - velocity_term / (4.0 * k);
+        let waterline_data = lines
+            .iter()
+            .map(|&(panels, s)| {
+                let w = quadratic_weights(panels.map(|l| arc[l]), s);
+                let at =
+                    |f: &dyn Fn(usize) -> f64| -> f64 { (0..3).map(|m| w[m] * f(panels[m])).sum() };
+                let values: Vec<Complex64> = (0..=motion.dofs.len())
+                    .map(|c| {
+                        (0..3)
+                            .map(|m| {
+                                let l = panels[m];
+                                let value = if c == 0 { psi[l] } else { radiated[c - 1][l] };
+                                value * w[m]
+                            })
+                            .sum()
+                    })
+                    .collect();
+                let normals = (0..=dofs).map(|j| at(&|l| normal(l, j))).collect();
+                let n_x = at(&|l| mesh.body[l].normal[0]).abs().max(1e-3);
+                let point = if panels[0] == 0 {
+                    mesh.body[0].start
+                } else {
+                    mesh.body[n - 1].end
+                };
+                moving::Waterline {
+                    potential: values,
+                    normals,
+                    n_x,
+                    point,
+                }
+            })
+            .collect();
+        let heading = moving::Heading {
+            potential: (0..n).map(|l| columns(&psi, &radiated, l)).collect(),
+            tangential: (0..n)
+                .map(|l| columns(&tangential, &radiated_tangential, l))
+                .collect(),
+            waterlines: waterline_data,
+        };
+        let forms = moving::forms(mesh, k, &motion, &heading, &normal);
+        for (j, q) in forms.iter().enumerate() {
+            near_field[(j, h)] = q[(0, 0)].re;
         }
+        motion_forms.push(forms);
     }
     let horizontal = (0..dofs)
         .map(|j| {
@@ -365,6 +493,8 @@ pub(super) fn drift(
         near_field,
         cosines: cosines.to_vec(),
         horizontal,
+        motion_forms,
+        moving: motion.dofs,
     }
 }
 

@@ -3,12 +3,14 @@
 //!
 //! ```text
 //! RAO:   kR,j,heading,re,im   value = xi_j R^e_j / a      (rigid DOFs; elastic DOFs held)
-//! drift: kR,j,heading,value   value = D_j / (rho g R^e_j)  (rigid sway, by the far field)
+//! drift: kR,j,heading,value   value = D_j / (rho g R^e_j)  (every DOF)
 //! ```
 //!
 //! The floating drift in sway is Maruo's `c (1 + |R|^2 - |T|^2) / 4` with the reflected and
 //! transmitted waves of the moving section: the scattered wave plus the waves its motion
-//! radiates ([`crate::bem::Drift::horizontal_far_field_moving`]).
+//! radiates ([`crate::bem::Drift::horizontal_far_field_moving`]); the other DOFs' is the
+//! pressure integration over the moving section ([`crate::bem::Drift::near_field_moving`]),
+//! whose horizontal force the header compares with the far field's.
 
 use super::SweepResult;
 use crate::bem::HEADINGS;
@@ -94,10 +96,11 @@ impl SweepResult {
     }
 
     /// Writes the mean drift table of the section floating as `floating`: the drift table's
-    /// header, then `kR,j,heading,value` with `D_j / (rho g R^e_j)` for rigid sway (by the far
-    /// field with the waves the motion radiates). The other DOFs' floating drift needs the
-    /// pressure integration's motion terms, which are not computed: they are left out, and
-    /// the header says so.
+    /// header, then `kR,j,heading,value` with `D_j / (rho g R^e_j)` for every DOF
+    /// ([`Floating::sweep_drift`]: rigid sway by the far field with the waves the motion
+    /// radiates, the others by pressure integration over the moving section). The header
+    /// gives the energy defect of the moving section's waves and the largest difference of
+    /// the two methods' horizontal force.
     pub fn write_floating_drift_csv(
         &self,
         floating: &Floating,
@@ -105,6 +108,7 @@ impl SweepResult {
         out: &mut dyn Write,
     ) -> Result<(), FloatingTableError> {
         let raos = floating.sweep_raos(self)?;
+        let drifts = floating.sweep_drift(self)?;
         self.write_header_with_exponents(out)?;
         writeln!(
             out,
@@ -113,29 +117,39 @@ impl SweepResult {
         writeln!(
             out,
             "# body: floating; {properties}; rigid sway by the far field (Maruo) with the waves the \
-             motion radiates; the other DOFs are left out (their pressure integration needs the \
-             motion's terms, not computed)"
+             motion radiates, the other DOFs by pressure integration over the moving section \
+             (roll about the roll reference point's mean position; elastic DOFs held)"
         )?;
+        let scale = self.length_scales();
         let mut rows = Vec::new();
-        let mut energy: f64 = 0.0;
-        for ((kr, forces), rao) in self.kr.iter().zip(&self.excitation).zip(&raos) {
+        let (mut energy, mut methods, mut largest): (f64, f64, f64) = (0.0, 0.0, 0.0);
+        for (((kr, forces), rao), values) in
+            self.kr.iter().zip(&self.excitation).zip(&raos).zip(&drifts)
+        {
             let Some(drift) = &forces.drift else {
                 continue;
             };
             let count = drift.cosines.len().min(rao.ncols());
             for (h, heading) in HEADINGS.iter().enumerate().take(count) {
                 let motion: Vec<Complex64> = rao.column(h).iter().copied().collect();
-                let (r, t) = drift.coefficients_moving(h, &motion);
-                energy = energy.max((r.norm_sqr() + t.norm_sqr() - 1.0).abs());
-                let value = drift.horizontal_far_field_moving(h, &motion);
-                for j in (0..drift.horizontal.len()).filter(|&j| drift.horizontal[j]) {
-                    rows.push((*kr, j, *heading, value));
+                let (reflected, transmitted) = drift.coefficients_moving(h, &motion);
+                energy = energy.max((reflected.norm_sqr() + transmitted.norm_sqr() - 1.0).abs());
+                let far = drift.horizontal_far_field_moving(h, &motion);
+                let near = drift.near_field_moving(h, &motion);
+                methods = methods.max((far - near[near.len() - 1]).abs());
+                largest = largest.max(far.abs());
+                for j in 0..values.nrows() {
+                    rows.push((*kr, j, *heading, values[(j, h)] / scale[j]));
                 }
             }
         }
         writeln!(
             out,
             "# energy, |R|^2 + |T|^2 - 1 of the floating section (max over kR of its magnitude; 0 without external damping, which absorbs): {energy:.2e}"
+        )?;
+        writeln!(
+            out,
+            "# horizontal force, pressure integration - far field (max over kR, per rho g a^2; the largest is {largest:.3e}): {methods:.2e}"
         )?;
         self.write_notes(out)?;
         writeln!(out, "kR,j,heading,value")?;

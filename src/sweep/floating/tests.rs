@@ -99,8 +99,8 @@ fn the_floating_tables_are_nondimensional() {
         rows(&drift_small, "kR,j,heading,value"),
         rows(&drift_large, "kR,j,heading,value"),
     );
-    // Rigid sway only, every frequency and heading.
-    assert_eq!(drift_small.len(), 6);
+    // Every DOF, frequency and heading.
+    assert_eq!(drift_small.len(), 24);
     for (a, b) in drift_small.iter().zip(&drift_large) {
         assert!(
             (a[3] - b[3]).abs() <= 1e-8 * a[3].abs().max(1e-3),
@@ -168,13 +168,13 @@ fn a_free_section_conserves_energy_and_rides_long_waves() {
         .unwrap();
     assert!((heave[3].hypot(heave[4]) - 1.0).abs() <= 1e-3, "{heave:?}");
     let drift = rows(&drift, "kR,j,heading,value");
-    assert!(
-        drift[0][0] == 0.01 && drift[0][3].abs() <= 1e-3,
-        "{:?}",
-        drift[0]
-    );
+    // Sway vanishes; heave tends to kR (src/motion/tests.rs), roll and the held mode to 0.
+    for row in drift.iter().filter(|r| r[0] == 0.01) {
+        let bound = if row[1] == 2.0 { 0.011 } else { 1e-3 };
+        assert!(row[3].abs() <= bound, "{row:?}");
+    }
     // Waves towards +x push the free section towards +x, no harder than full reflection.
-    for row in drift.iter().filter(|r| r[2] == 0.0) {
+    for row in drift.iter().filter(|r| r[1] == 1.0 && r[2] == 0.0) {
         assert!(row[3] >= 0.0 && row[3] <= 0.5 + 1e-3, "{row:?}");
     }
 }
@@ -225,24 +225,25 @@ fn moorings_that_supply_energy_and_other_sweeps_are_refused() {
 }
 
 #[test]
-fn the_swept_floating_drift_is_the_tables_sway_and_marks_the_rest_uncomputed() {
-    // Sway by the far field: the table's value, and under a stiff mooring the fixed
-    // section's far-field sway; heave, roll and the elastic DOF are not computed (NaN).
+fn the_swept_floating_drift_is_the_table_s_and_a_stiff_mooring_gives_the_fixed_one() {
+    // Sway by the far field, the others by pressure integration: the table's values (R = 1);
+    // under a stiff mooring the fixed section's drift in every row.
     let (hull, result) = sweep(1.0, vec![0.3, 1.0]);
     let (free, properties) = floating(&hull, 1.0, [0.0; 3]);
     let (_, table) = tables(&hull, &result, &free, &properties.to_string());
     let table = rows(&table, "kR,j,heading,value");
     let drift = free.sweep_drift(&result).unwrap();
     assert_eq!(drift.len(), 2);
-    for (f, (kr, values)) in result.kr.iter().zip(&drift).enumerate() {
+    for (kr, values) in result.kr.iter().zip(&drift) {
         assert_eq!(values.shape(), (4, 2));
         for h in 0..2 {
-            let row = table
-                .iter()
-                .find(|r| r[0] == *kr && r[1] == 1.0 && r[2] == HEADINGS[h])
-                .unwrap();
-            assert!((values[(0, h)] - row[3]).abs() <= 1e-12, "{f} {h} {row:?}");
-            assert!((1..4).all(|j| values[(j, h)].is_nan()));
+            for j in 0..4 {
+                let row = table
+                    .iter()
+                    .find(|r| r[0] == *kr && r[1] == (j + 1) as f64 && r[2] == HEADINGS[h])
+                    .unwrap();
+                assert!((values[(j, h)] - row[3]).abs() <= 1e-12, "{row:?}");
+            }
         }
     }
     let stiff = 1e6 * RHO * G * 2.0;
@@ -252,11 +253,9 @@ fn the_swept_floating_drift_is_the_tables_sway_and_marks_the_rest_uncomputed() {
         .iter()
         .zip(moored.sweep_drift(&result).unwrap())
     {
-        let fixed = forces.drift.as_ref().unwrap();
-        for h in 0..2 {
-            let difference = (values[(0, h)] - fixed.horizontal_far_field(h)).abs();
-            // Measured: about 1e-7 (the motion ~1e-6 of a free section's).
-            assert!(difference <= 1e-5, "{difference}");
-        }
+        let fixed = forces.drift.as_ref().unwrap().mean_drift();
+        let difference = (values - fixed).amax();
+        // Measured: about 1e-7 (the motion ~1e-6 of a free section's).
+        assert!(difference <= 1e-5, "{difference}");
     }
 }
