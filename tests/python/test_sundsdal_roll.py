@@ -19,6 +19,7 @@ over the two halves of that window must agree (the transient has died out).
 """
 import math
 import pathlib
+import subprocess
 import sys
 
 import numpy as np
@@ -63,8 +64,8 @@ def packed(fmu_pack_binary, tmp_path_factory):
                     "--damping-quadratic", f"roll={ROLL_QUADRATIC}"],
     }.items():
         path = out / f"{name}.fmu"
-        hc.subprocess.run([str(fmu_pack_binary), "pack", str(HULL), "-o", str(path), *extra],
-                          check=True, capture_output=True)
+        subprocess.run([str(fmu_pack_binary), "pack", str(HULL), "-o", str(path), *extra],
+                       check=True, capture_output=True)
         paths[name] = path
     return paths
 
