@@ -289,8 +289,7 @@ fn floating_experiment(out: &Output) -> String {
          Potential flow has no viscous roll damping: docs/VISCOUS.md (\"Roll at resonance\") \
          adds Ikeda's estimate and co-simulates the section through the FMU. The H2 runs at \
          xi_B 1.0 (k a 0.0996) scatter by half-ranges of 0.15-0.2 between repetitions; xi_B 2.0 \
-         is steep (k a 0.2). Motions: the rigid-body equation of `hydrofmu::motion` assembled \
-         in `examples/report/section_motion.rs`.",
+         is steep (k a 0.2). Motions: `hydrofmu::motion::Floating`.",
         resonance.0
     );
     if out.quick {

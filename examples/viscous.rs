@@ -409,7 +409,7 @@ fn resonance_section(out: &Output, section: &Section) -> String {
         "The floating section of Sundsdal et al. (2025) (`examples/hulls/sundsdal_floating.xml`, \
          docs/DRIFT.md) in the flume's regular beam waves of amplitude a (scenario B, \
          `tests/data/sundsdal/scenario_B.csv`; roll per wave slope `k a`, `k = omega^2 / g`): \
-         our RAO (deep water, `examples/report/section_motion.rs`) without viscous damping, \
+         our RAO (deep water, `hydrofmu::motion::Floating`) without viscous damping, \
          and with Ikeda's damping (the FMU's coefficients below) as the equivalent linear \
          damping at the amplitude it produces (solved by bisection). xi_B < 0.65 is shallow for \
          deep-water theory (`h / lambda` < 0.5).\n"
