@@ -2,7 +2,7 @@
 //! relation, point values with their gradient, and integrals over straight source panels.
 //!
 //! # Conventions
-//! As for the deep-water [`GreenFunction`](super::GreenFunction): `x` to the right, `y` up,
+//! As for the deep-water [`GreenFunction`]: `x` to the right, `y` up,
 //! mean free surface `y = 0`, flat bottom `y = -h`, fluid in `-h < y < 0`, time factor
 //! `exp(+i omega t)`, `nu = omega^2 / g`. `G` solves `lap G = delta(x - x0)`
 //! (`G ~ (1/2pi) ln r0` at the source), `dG/dy = nu G` on `y = 0`, `dG/dy = 0` on `y = -h`,
@@ -51,7 +51,7 @@
 //!
 //! # Panels
 //! [`FiniteDepthGreen::panel_integral`] (same panel conventions as the deep-water one) adds the
-//! deep-water closed form ([`GreenFunction::panel_integral`](super::GreenFunction::panel_integral)),
+//! deep-water closed form ([`GreenFunction::panel_integral`]),
 //! the closed-form integral of `(1/2pi) ln r2` (the Rankine panel integral in the frame
 //! mirrored in the bottom) and `G - G_inf - (1/2pi) ln(r2/2h)`, smooth on the panel, by
 //! [`PANEL_NODES`]-point Gauss-Legendre.
@@ -302,7 +302,7 @@ impl FiniteDepthGreen {
 
     /// `int_a^b G(field, x0) ds0` over the straight panel `a -> b` and its gradient with
     /// respect to `field`, with the conventions of
-    /// [`GreenFunction::panel_integral`](super::GreenFunction::panel_integral) (on the panel:
+    /// [`GreenFunction::panel_integral`] (on the panel:
     /// the limit from the fluid side). A zero-length panel gives zeros.
     pub fn panel_integral(&self, field: Point, a: Point, b: Point) -> PanelIntegral {
         let mut out = self.deep.panel_integral(field, a, b);

@@ -186,9 +186,8 @@ fn identities_by_finite_differences() {
         }
     }
     eprintln!("identities (reciprocity, gradient, laplace, surface, bottom): {worst:?}");
-    // Finite differences: truncation about 1e-7 (Laplace) and 1e-10 (gradient), rounding
-    // 1e-10 (Laplace) in these units.
-    let limits = [1e-15, 2e-9, 1e-6, 5e-15, 5e-14];
+    // Measured: 1e-16, 2.3e-13, 1.3e-7 (5-point truncation), 1.3e-15, 1.5e-14.
+    let limits = [1e-15, 1e-12, 3e-7, 5e-15, 5e-14];
     for (w, l) in worst.iter().zip(limits) {
         assert!(w < &l, "{worst:?}");
     }
@@ -235,6 +234,7 @@ fn near_form_matches_series_in_the_overlap() {
     }
     eprintln!("overlap: {worst:e}, jump at the switch {jump:e}");
     assert!(worst < 3e-13, "{worst}");
+    // Measured 1.6e-13 and 5.7e-12.
     assert!(jump < 1e-11, "{jump}");
 }
 
@@ -342,10 +342,8 @@ fn panel_integrals_match_adaptive_quadrature() {
             }
         }
         eprintln!("panels nu {nu} h {h}: L/h = 0.05, 0.25, 0.5: {worst:?}");
-        assert!(
-            worst[0] < 1e-13 && worst[1] < 1e-12 && worst[2] < 1e-9,
-            "{worst:?}"
-        );
+        // Measured at most 8.6e-15 (10 nodes).
+        assert!(worst.iter().all(|&w| w < 2e-14), "{worst:?}");
     }
 }
 
