@@ -58,11 +58,12 @@
 //!
 //! # Accuracy and cost (tests, 2026-11-29)
 //! Near form against the series where both converge (`0.5 <= k_1 |X| <= 2`): within `2e-13`
-//! of `1 + |G|` (value, and gradient times `h`), for `nu h` from 0.1 to 10. Panel integrals
-//! against adaptive quadrature: within `1e-14` of `L + |int G ds|` for panels up to `h/2`
-//! long. `G_h - G_inf` falls like `1/(nu h)^2`: `3.3e-4` at `nu h = 20`. Cost (optimized
-//! build, shared machine): a point about 20-30 us in the near form, 0.5 us by the series; a
-//! panel integral about 0.2 ms near its field point, 12 us far from it.
+//! of `1 + |G|` (value, and gradient times `h`), for `nu h` from 0.003 to 30, and as much
+//! across the switch. Panel integrals against adaptive quadrature: within `1e-14` of
+//! `L + |int G ds|` for panels up to `h/2` long. `G_h - G_inf` falls like `1/(nu h)^2`:
+//! `3.3e-4` at `nu h = 20`. Cost (optimized build, shared machine): a point about 20-30 us in
+//! the near form, 0.5 us by the series; a panel integral about 0.2 ms near its field point,
+//! 12 us far from it.
 //!
 //! # References
 //! F. John, "On the motion of floating bodies II", Comm. Pure Appl. Math. 3 (1950) 45-101.
