@@ -88,9 +88,11 @@
 //!   and [`PanelPairs`];
 //! * `panel`: closed-form panel integrals (Rankine log integrals, multipole series, wave part);
 //! * `table`: the tabulated `Q(p)` with Taylor steps;
-//! * `exp_integral`: `E1`, `e^z E1(z)`, `Q = e^{-p} Ei(p)` by series and continued fraction.
+//! * `exp_integral`: `E1`, `e^z E1(z)`, `Q = e^{-p} Ei(p)` by series and continued fraction;
+//! * [`finite_depth`]: the Green function in water of finite depth, built on this one.
 
 mod exp_integral;
+pub mod finite_depth;
 mod panel;
 mod table;
 #[cfg(test)]
