@@ -18,7 +18,8 @@
 //!   `gamma`, the pressure coefficient `C_P = 0.5 (0.87 e^-gamma - 4 e^(-0.187 gamma) + 3)` and
 //!   `C_R = r_max^2/T^2 C_P [(1 - f_1 R/T)(1 - OG/T - f_1 R/T) + f_2 (H_0 - f_1 R/T)^2]`;
 //!   Ikeda's equivalent linear value `4/(3 pi) rho T^4 omega phi_a C_R` is quadratic:
-//!   `B_q = rho T^4 C_R / 2`;
+//!   `B_q = rho T^4 max(C_R, 0) / 2` (the fit dips below zero for near-circular sections
+//!   rolling off their centre);
 //! - bilge keels (Ikeda 1978, ITTC): the normal force with
 //!   `C_D = 22.5 b/(pi l phi_a f) + 2.4` splits into a linear part `B_l = 60 rho l^2 b^2 omega
 //!   / pi^2` and a quadratic part `B_q = 2.4 rho l^3 b f` (`l`: roll axis to bilge, `b`: keel

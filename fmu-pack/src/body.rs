@@ -168,7 +168,10 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
              narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
         )));
     }
-    let mut body = args.viscous.apply(Body::whole(&fitted.database, None)?)?;
+    args.viscous.refuse_estimate_options()?;
+    let mut body = args
+        .viscous
+        .apply(Body::whole(&fitted.database, None)?, None)?;
     if args.drift {
         if fitted.database.drift.is_empty() {
             return Err(PackError(format!(
@@ -210,5 +213,12 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
     )?;
     summary.fit = Some(text.replace('\n', "; "));
     summary.scene = Some(fitted.report.to_string());
+    if args.viscous.viscous {
+        summary.viscous = vec![
+            "the entries given, the others 0 (a whole body has no estimate from its geometry \
+             yet)"
+                .into(),
+        ];
+    }
     Ok(summary)
 }

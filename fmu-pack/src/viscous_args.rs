@@ -2,12 +2,26 @@
 //!
 //! `--damping-linear` takes entries `DOF=B` (a diagonal entry, by DOF name or 1-based index)
 //! or `I,J=B` (any entry, names or indices), comma-separated: `sway=2,roll=0.5,sway,roll=0.1`.
-//! `--damping-quadratic` takes `DOF=B`. Entries not given are 0; an entry given twice, an
-//! unknown DOF, or a value that is not a finite number is an error naming it.
+//! `--damping-quadratic` takes `DOF=B`. An entry given twice, an unknown DOF, or a value that
+//! is not a finite number is an error naming it.
+//!
+//! Entries not given: a section's estimate ([`section_estimate`], docs/VISCOUS.md "As the
+//! FMU's default"): its roll DOF Ikeda's roll damping, linear `B_l` = friction + the keels'
+//! linear parts at `--roll-frequency` (default: the roll natural frequency of the hull file's
+//! `<mass>`, else `sqrt(g / R)`, R the half-beam) and `--roll-amplitude` (default 10 deg),
+//! quadratic `B_q` = eddy making + the keels' normal force; its sway and heave DOFs the
+//! cross-flow drag `B_q = 0.5 rho C_D T` (sway), `0.5 rho C_D B` (heave), at the reference
+//! rho. Every other entry, a whole body's, and all with `--no-estimate`: 0.
 
 use clap::Args;
+use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
 use hydrofmu::fmu::Body;
+use hydrofmu::hull::Hull;
+use hydrofmu::viscous::{self, CrossFlow};
 use nalgebra::{DMatrix, DVector};
+
+/// The default roll amplitude of the estimate, degrees.
+pub const DEFAULT_ROLL_AMPLITUDE_DEG: f64 = 10.0;
 
 /// Linear (n x n) and quadratic (n) damping.
 type Coefficients = (DMatrix<f64>, DVector<f64>);
@@ -41,6 +55,131 @@ pub struct ViscousArgs {
         allow_hyphen_values = true
     )]
     pub damping_quadratic: Option<String>,
+    /// Roll amplitude (deg) at which the roll estimate's friction and bilge keels' linear
+    /// parts are taken (default 10).
+    #[arg(long, value_name = "DEG", requires = "viscous")]
+    pub roll_amplitude: Option<f64>,
+    /// Frequency (rad/s) at which the roll estimate's linear parts are taken (default: the
+    /// roll natural frequency of the hull file's <mass>, else sqrt(g/R), R the half-beam).
+    #[arg(long, value_name = "RAD/S", requires = "viscous")]
+    pub roll_frequency: Option<f64>,
+    /// Pack only the entries given (the others 0), not the section's estimate from its
+    /// geometry (Ikeda's roll damping, the cross-flow drag of sway and heave).
+    #[arg(long, requires = "viscous")]
+    pub no_estimate: bool,
+}
+
+/// A section's estimated defaults: `(B_l, B_q)` over the hull's DOFs and the lines that say
+/// where they come from.
+pub struct Estimate {
+    /// The coefficients, over the hull's DOFs in its order.
+    pub coefficients: Coefficients,
+    /// The hull's DOF names.
+    pub names: Vec<String>,
+    /// Source, inputs, values and validity warnings, one per line.
+    pub lines: Vec<String>,
+}
+
+/// The frequency of the estimate's linear parts and where it comes from.
+fn roll_frequency(args: &ViscousArgs, hull: &Hull) -> Result<(f64, String), String> {
+    if let Some(omega) = args.roll_frequency {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(format!(
+                "--roll-frequency {omega}: expected a finite frequency > 0 rad/s"
+            ));
+        }
+        return Ok((omega, "--roll-frequency".into()));
+    }
+    if let Some(omega) = viscous::roll_natural_frequency(hull, DEFAULT_RHO, DEFAULT_G) {
+        return Ok((
+            omega,
+            "the roll natural frequency of <mass>, dry inertia".into(),
+        ));
+    }
+    let r = hull.reference_half_beam();
+    Ok((
+        (DEFAULT_G / r).sqrt(),
+        format!("sqrt(g/R), R = {r} m: no <mass> with roll restoring"),
+    ))
+}
+
+/// The estimate of a section hull (module docs).
+pub fn section_estimate(args: &ViscousArgs, hull: &Hull) -> Result<Estimate, String> {
+    let degrees = args.roll_amplitude.unwrap_or(DEFAULT_ROLL_AMPLITUDE_DEG);
+    if !(degrees.is_finite() && degrees > 0.0 && degrees < 90.0) {
+        return Err(format!(
+            "--roll-amplitude {degrees}: expected an amplitude in (0, 90) deg"
+        ));
+    }
+    let (omega, source) = roll_frequency(args, hull)?;
+    let no_estimate = "; give the entries with --damping-linear and --damping-quadratic and \
+                       pass --no-estimate";
+    let estimate = viscous::section_estimate(hull, DEFAULT_RHO, omega, degrees.to_radians())
+        .map_err(|e| format!("--viscous: {e}{no_estimate}"))?;
+    let names: Vec<String> = hull.dof_names().iter().map(|d| d.to_string()).collect();
+    let n = names.len();
+    let (mut linear, mut quadratic) = (DMatrix::zeros(n, n), DVector::zeros(n));
+    let mut lines = Vec::new();
+    if let Some((roll, damping)) = &estimate.roll {
+        let p = &roll.params;
+        let total = damping.total();
+        linear[(roll.dof, roll.dof)] = total.linear;
+        quadratic[roll.dof] = total.quadratic;
+        let keels = p.bilge_keels.map_or("no bilge keels".to_string(), |k| {
+            format!(
+                "bilge keels {} m on {} of the length",
+                k.breadth, k.length_fraction
+            )
+        });
+        lines.push(format!(
+            "{}: Ikeda at zero speed, B {:.4} m, T {:.4} m, sigma {:.4}, bilge radius {:.4} m \
+             (from sigma), OG {:.4} m ({}), {keels}",
+            names[roll.dof],
+            p.breadth,
+            p.draft,
+            p.area_coefficient,
+            p.bilge_radius,
+            p.roll_axis_height,
+            roll.axis.describe()
+        ));
+        lines.push(format!(
+            "  at {omega:.4} rad/s ({source}) and {degrees} deg: B_l {:.6e} (friction {:.6e}, \
+             keels {:.6e}) N.m.s/rad per m, B_q {:.6e} (eddy {:.6e}, keels {:.6e}) \
+             N.m.s2/rad2 per m",
+            total.linear,
+            damping.friction.linear,
+            damping.bilge_keel.linear,
+            total.quadratic,
+            damping.eddy_making.quadratic,
+            damping.bilge_keel.quadratic
+        ));
+        for w in &damping.warnings {
+            lines.push(format!(
+                "  warning: {w}: Ikeda's method extrapolates (docs/VISCOUS.md)"
+            ));
+        }
+    }
+    for drag in &estimate.drag {
+        quadratic[drag.dof] = drag.quadratic;
+        let (formula, projected) = match drag.flow {
+            CrossFlow::Sway => ("0.5 rho C_D T", "T"),
+            CrossFlow::Heave => ("0.5 rho C_D B", "B"),
+        };
+        lines.push(format!(
+            "{}: cross-flow drag, C_D {:.4} (rounded rectangle on {projected}), B_q = {formula} \
+             = {:.6e} kg/m2",
+            names[drag.dof], drag.drag_coefficient, drag.quadratic
+        ));
+    }
+    lines.push(format!(
+        "estimates at rho {DEFAULT_RHO} kg/m^3; entries given with --damping-linear and \
+         --damping-quadratic replace them"
+    ));
+    Ok(Estimate {
+        coefficients: (linear, quadratic),
+        names,
+        lines,
+    })
 }
 
 /// The 0-based index of a DOF given by name or 1-based index.
@@ -93,14 +232,32 @@ fn entries(text: &str, option: &str) -> Result<Vec<(Vec<String>, f64)>, String> 
 }
 
 impl ViscousArgs {
-    /// The coefficients `(B_l, B_q)` for the body's DOFs `names` (`None` without --viscous).
-    pub fn coefficients(&self, names: &[String]) -> Result<Option<Coefficients>, String> {
+    /// The coefficients `(B_l, B_q)` for the body's DOFs `names` (`None` without --viscous):
+    /// the entries given, the others from `defaults` (matched by DOF name) or 0.
+    pub fn coefficients(
+        &self,
+        names: &[String],
+        defaults: Option<&Estimate>,
+    ) -> Result<Option<Coefficients>, String> {
         if !self.viscous {
             return Ok(None);
         }
         let n = names.len();
         let mut linear = DMatrix::zeros(n, n);
         let mut quadratic = DVector::zeros(n);
+        if let Some(estimate) = defaults {
+            let (l, q) = &estimate.coefficients;
+            let at = |name: &String| estimate.names.iter().position(|m| m == name);
+            for (i, a) in names.iter().enumerate() {
+                let Some(k) = at(a) else { continue };
+                quadratic[i] = q[k];
+                for (j, b) in names.iter().enumerate() {
+                    if let Some(m) = at(b) {
+                        linear[(i, j)] = l[(k, m)];
+                    }
+                }
+            }
+        }
         let mut given = std::collections::BTreeSet::new();
         let option = "--damping-linear";
         for (key, value) in entries(self.damping_linear.as_deref().unwrap_or(""), option)? {
@@ -132,10 +289,33 @@ impl ViscousArgs {
         Ok(Some((linear, quadratic)))
     }
 
-    /// `body` with the viscous damping of these options (unchanged without --viscous).
-    pub fn apply(&self, body: Body) -> Result<Body, String> {
+    /// The estimate of a section `hull` for these options: `None` without --viscous or with
+    /// --no-estimate.
+    pub fn estimate(&self, hull: &Hull) -> Result<Option<Estimate>, String> {
+        if !self.viscous || self.no_estimate {
+            return Ok(None);
+        }
+        section_estimate(self, hull).map(Some)
+    }
+
+    /// Refuses the estimate's options for a whole body (ship, imported database), whose
+    /// entries are the ones given.
+    pub fn refuse_estimate_options(&self) -> Result<(), String> {
+        if self.roll_amplitude.is_some() || self.roll_frequency.is_some() {
+            return Err(
+                "--roll-amplitude and --roll-frequency shape a section's estimate; a \
+                        whole body's viscous damping is the entries given (docs/VISCOUS.md)"
+                    .into(),
+            );
+        }
+        Ok(())
+    }
+
+    /// `body` with the viscous damping of these options (unchanged without --viscous), the
+    /// entries not given from `defaults`.
+    pub fn apply(&self, body: Body, defaults: Option<&Estimate>) -> Result<Body, String> {
         let names: Vec<String> = body.dofs.iter().map(|d| d.name.clone()).collect();
-        match self.coefficients(&names)? {
+        match self.coefficients(&names, defaults)? {
             Some((linear, quadratic)) => body
                 .with_viscous(linear, quadratic)
                 .map_err(|e| format!("--viscous: {e}")),
@@ -157,13 +337,14 @@ mod tests {
             viscous: true,
             damping_linear: Some(linear.into()),
             damping_quadratic: Some(quadratic.into()),
+            ..ViscousArgs::default()
         }
     }
 
     #[test]
     fn entries_by_name_and_index_fill_the_matrices() {
         let (l, q) = args("sway=2, 3=0.5, sway,roll=0.1, 3,1=0.1", "roll=4,1=1e3")
-            .coefficients(&names())
+            .coefficients(&names(), None)
             .unwrap()
             .unwrap();
         assert_eq!(
@@ -172,7 +353,7 @@ mod tests {
         );
         assert_eq!(l[(1, 1)], 0.0);
         assert_eq!(q.as_slice(), &[1e3, 0.0, 4.0]);
-        let off = ViscousArgs::default().coefficients(&names()).unwrap();
+        let off = ViscousArgs::default().coefficients(&names(), None).unwrap();
         assert!(off.is_none());
     }
 
@@ -191,7 +372,7 @@ mod tests {
             (args("", "4=1"), "index 1..3"),
         ];
         for (a, expected) in cases {
-            let e = a.coefficients(&names()).unwrap_err();
+            let e = a.coefficients(&names(), None).unwrap_err();
             assert!(e.contains(expected), "{e}");
         }
     }

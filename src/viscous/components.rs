@@ -117,9 +117,11 @@ pub fn eddy_coefficient(p: &RollDampingParams) -> Result<f64, ViscousError> {
     Ok((r_max / t).powi(2) * c_p * arm)
 }
 
-/// Ikeda's eddy making at zero speed, quadratic: `B_q = rho T^4 C_R / 2`.
+/// Ikeda's eddy making at zero speed, quadratic: `B_q = rho T^4 C_R / 2`, with a negative
+/// `C_R` (near-circular sections rolling off their centre, where the fit dips below zero)
+/// taken as 0: eddies do not feed energy into the roll.
 pub fn eddy_making(p: &RollDampingParams) -> Result<Damping, ViscousError> {
-    let c_r = eddy_coefficient(p)?;
+    let c_r = eddy_coefficient(p)?.max(0.0);
     Ok(Damping {
         linear: 0.0,
         quadratic: 0.5 * p.rho * p.draft.powi(4) * c_r,

@@ -157,3 +157,12 @@ fn the_equivalent_damping_is_the_components_and_friction_alone_at_zero_amplitude
     let near = bilge_keel(&p, omega, 1e-9);
     assert!((near.linear - keels.linear).abs() < 1e-6 * keels.linear);
 }
+
+#[test]
+fn a_semicircle_rolling_off_its_centre_gets_no_negative_eddy_damping() {
+    let mut p = RollDampingParams::new(2.0, 1.0, PI / 4.0, 1.0);
+    p.roll_axis_height = 0.3;
+    let c_r = super::super::eddy_coefficient(&p).unwrap();
+    assert!(c_r < 0.0, "{c_r}");
+    assert_eq!(super::super::eddy_making(&p).unwrap().quadratic, 0.0);
+}
