@@ -34,8 +34,10 @@ const MAX_ENTRIES: usize = 1_000_000;
 pub struct ViscousArgs {
     /// Give the FMU viscous damping and a current (docs/CURRENT.md): parameters
     /// `damping_linear[i,j]` and `damping_quadratic[i]` (start values from
-    /// --damping-linear and --damping-quadratic, else 0), inputs `current.speed` (m/s) and
-    /// `current.heading` (deg), outputs `force_viscous.<dof>` (in `force`).
+    /// --damping-linear and --damping-quadratic; a section's entries not given from its
+    /// geometry: Ikeda's roll damping, the cross-flow drag of sway and heave, docs/VISCOUS.md;
+    /// else 0), inputs `current.speed` (m/s) and `current.heading` (deg), outputs
+    /// `force_viscous.<dof>` (in `force`).
     #[arg(long)]
     pub viscous: bool,
     /// Linear viscous damping B_l: `DOF=B` (diagonal) or `I,J=B` entries, comma-separated

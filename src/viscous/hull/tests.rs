@@ -110,7 +110,7 @@ fn the_natural_frequency_of_a_semicircle_is_the_weight_over_the_dry_inertia() {
     assert_eq!(roll_natural_frequency(&hull, 1025.0, 9.81), None);
     let below = Hull::from_xml_str(&text.replace("y=\"0.2\"", "y=\"-0.2\""), "f.xml").unwrap();
     let omega = roll_natural_frequency(&below, 1025.0, 9.81).unwrap();
-    let by_hand = (9.81 * 0.2 / (0.09 + 0.04) as f64).sqrt();
+    let by_hand: f64 = (9.81 * 0.2 / (0.09 + 0.04_f64)).sqrt();
     assert!(
         (omega - by_hand).abs() < 1e-6 * by_hand,
         "{omega} vs {by_hand}"
