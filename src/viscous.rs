@@ -40,6 +40,7 @@
 mod components;
 mod drag;
 mod hull;
+mod ship;
 
 pub use components::{bilge_keel, eddy_coefficient, eddy_making, friction, lewis_form, LewisForm};
 pub use drag::{cross_flow_drag_coefficient, cross_flow_force, CrossFlow};
@@ -47,6 +48,7 @@ pub use hull::{
     bilge_radius_from_area, hull_roll_damping, roll_natural_frequency, roll_params, section_drag,
     section_estimate, HullDampingError, HullRoll, RollAxis, SectionDrag, SectionEstimate,
 };
+pub use ship::{ship_estimate, ShipEstimate};
 
 use std::fmt;
 

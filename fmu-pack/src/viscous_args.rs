@@ -11,7 +11,8 @@
 //! `<mass>`, else `sqrt(g / R)`, R the half-beam) and `--roll-amplitude` (default 10 deg),
 //! quadratic `B_q` = eddy making + the keels' normal force; its sway and heave DOFs the
 //! cross-flow drag `B_q = 0.5 rho C_D T` (sway), `0.5 rho C_D B` (heave), at the reference
-//! rho. Every other entry, a whole body's, and all with `--no-estimate`: 0.
+//! rho. A ship: its sections' estimates integrated along its stations ([`ship_estimate`]).
+//! Every other entry, an imported database's, and all with `--no-estimate`: 0.
 
 use clap::Args;
 use hydrofmu::fmu::description::{DEFAULT_G, DEFAULT_RHO};
@@ -84,13 +85,8 @@ pub struct Estimate {
 
 /// The frequency of the estimate's linear parts and where it comes from.
 fn roll_frequency(args: &ViscousArgs, hull: &Hull) -> Result<(f64, String), String> {
-    if let Some(omega) = args.roll_frequency {
-        if !(omega.is_finite() && omega > 0.0) {
-            return Err(format!(
-                "--roll-frequency {omega}: expected a finite frequency > 0 rad/s"
-            ));
-        }
-        return Ok((omega, "--roll-frequency".into()));
+    if args.roll_frequency.is_some() {
+        return checked_frequency(args);
     }
     if let Some(omega) = viscous::roll_natural_frequency(hull, DEFAULT_RHO, DEFAULT_G) {
         return Ok((
@@ -105,14 +101,88 @@ fn roll_frequency(args: &ViscousArgs, hull: &Hull) -> Result<(f64, String), Stri
     ))
 }
 
-/// The estimate of a section hull (module docs).
-pub fn section_estimate(args: &ViscousArgs, hull: &Hull) -> Result<Estimate, String> {
+/// The estimate of a ship (module docs; [`viscous::ship_estimate`]): at `--roll-frequency`,
+/// default `sqrt(g / R)` with R the largest section half-beam.
+pub fn ship_estimate(args: &ViscousArgs, ship: &hydrofmu::ship::Ship) -> Result<Estimate, String> {
+    let degrees = roll_amplitude(args)?;
+    let r = ship
+        .sections()
+        .iter()
+        .map(|h| h.reference_half_beam())
+        .fold(0.0, f64::max);
+    let (omega, source) = match args.roll_frequency {
+        Some(_) => checked_frequency(args)?,
+        None => (
+            (DEFAULT_G / r).sqrt(),
+            format!("sqrt(g/R), R = {r} m, the largest section half-beam"),
+        ),
+    };
+    let estimate = viscous::ship_estimate(ship, DEFAULT_RHO, omega, degrees.to_radians())
+        .map_err(|e| format!("--viscous: {e}; pass --no-estimate and give the entries"))?;
+    let names: Vec<String> = ship.dof_names().iter().map(|d| d.to_string()).collect();
+    let n = names.len();
+    let (mut linear, mut quadratic) = (DMatrix::zeros(n, n), DVector::zeros(n));
+    let mut lines = vec![format!(
+        "ship: its sections' estimates integrated along the stations (docs/VISCOUS.md), roll at \
+         {omega:.4} rad/s ({source}) and {degrees} deg, drag as a section's; yaw and pitch \
+         B_q = int 0.5 rho C_D D |x|^3 dx"
+    )];
+    for (name, damping) in &estimate.dofs {
+        let Some(i) = names.iter().position(|d| d == name) else {
+            continue;
+        };
+        linear[(i, i)] = damping.linear;
+        quadratic[i] = damping.quadratic;
+        lines.push(format!(
+            "{name}: B_l {:.6e}, B_q {:.6e}",
+            damping.linear, damping.quadratic
+        ));
+    }
+    let mut warned = std::collections::BTreeSet::new();
+    for (x, w) in &estimate.warnings {
+        if warned.insert(w.field) {
+            lines.push(format!(
+                "warning: {w} (station x = {x} m, first of its kind): Ikeda's method \
+                 extrapolates"
+            ));
+        }
+    }
+    lines.push(format!(
+        "estimates at rho {DEFAULT_RHO} kg/m^3; entries given with --damping-linear and \
+         --damping-quadratic replace them"
+    ));
+    Ok(Estimate {
+        coefficients: (linear, quadratic),
+        names,
+        lines,
+    })
+}
+
+/// `--roll-amplitude` (default [`DEFAULT_ROLL_AMPLITUDE_DEG`]), checked.
+fn roll_amplitude(args: &ViscousArgs) -> Result<f64, String> {
     let degrees = args.roll_amplitude.unwrap_or(DEFAULT_ROLL_AMPLITUDE_DEG);
     if !(degrees.is_finite() && degrees > 0.0 && degrees < 90.0) {
         return Err(format!(
             "--roll-amplitude {degrees}: expected an amplitude in (0, 90) deg"
         ));
     }
+    Ok(degrees)
+}
+
+/// `--roll-frequency` (given), checked.
+fn checked_frequency(args: &ViscousArgs) -> Result<(f64, String), String> {
+    let omega = args.roll_frequency.unwrap_or(f64::NAN);
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(format!(
+            "--roll-frequency {omega}: expected a finite frequency > 0 rad/s"
+        ));
+    }
+    Ok((omega, "--roll-frequency".into()))
+}
+
+/// The estimate of a section hull (module docs).
+pub fn section_estimate(args: &ViscousArgs, hull: &Hull) -> Result<Estimate, String> {
+    let degrees = roll_amplitude(args)?;
     let (omega, source) = roll_frequency(args, hull)?;
     let no_estimate = "; give the entries with --damping-linear and --damping-quadratic and \
                        pass --no-estimate";
@@ -294,19 +364,24 @@ impl ViscousArgs {
     /// The estimate of a section `hull` for these options: `None` without --viscous or with
     /// --no-estimate.
     pub fn estimate(&self, hull: &Hull) -> Result<Option<Estimate>, String> {
-        if !self.viscous || self.no_estimate {
+        if !self.viscous {
+            return Ok(None);
+        }
+        if self.no_estimate {
+            self.refuse_estimate_options()?;
             return Ok(None);
         }
         section_estimate(self, hull).map(Some)
     }
 
-    /// Refuses the estimate's options for a whole body (ship, imported database), whose
-    /// entries are the ones given.
+    /// Refuses the estimate's options for a body without an estimate (an imported database,
+    /// or --no-estimate), whose entries are the ones given.
     pub fn refuse_estimate_options(&self) -> Result<(), String> {
         if self.roll_amplitude.is_some() || self.roll_frequency.is_some() {
             return Err(
-                "--roll-amplitude and --roll-frequency shape a section's estimate; a \
-                        whole body's viscous damping is the entries given (docs/VISCOUS.md)"
+                "--roll-amplitude and --roll-frequency shape the estimate from a section's \
+                 or a ship's geometry; here the viscous damping is the entries given \
+                 (docs/VISCOUS.md)"
                     .into(),
             );
         }

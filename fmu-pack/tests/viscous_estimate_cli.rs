@@ -227,3 +227,48 @@ fn viscous_roll_damping_lowers_the_roll_resonance_of_a_floating_section() {
     assert!(!ok && err.contains("--rao"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_ship_packs_its_sections_estimates_integrated_along_it() {
+    let dir = common::folder("viscous-ship");
+    let ship_path = example("ships/barge.xml");
+    let archive = dir.join("Ship.fmu");
+    let binary = common::stand_in_binary(&dir);
+    let (ok, out, err) = fmu_pack(&[
+        "pack",
+        &ship_path,
+        "--omega",
+        "0.2:2:8",
+        "--panels",
+        "16",
+        "--allow-tolerance-miss",
+        "--viscous",
+        "--roll-frequency",
+        "0.7",
+        "--roll-amplitude",
+        "12",
+        "--damping-quadratic",
+        "sway=1",
+        "--binary",
+        binary.to_str().unwrap(),
+        "-o",
+        archive.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("ship: its sections' estimates integrated along the stations"),
+        "{out}"
+    );
+    let ship = hydrofmu::ship::Ship::from_file(Path::new(&ship_path)).unwrap();
+    let estimate = viscous::ship_estimate(&ship, 1025.0, 0.7, 12f64.to_radians()).unwrap();
+    let get = |name: &str| estimate.dofs.iter().find(|d| d.0 == name).unwrap().1;
+    let table = rows(&archive);
+    let row = |name: &str| table.iter().position(|r| r.0 == name).unwrap();
+    let (roll, yaw, sway) = (row("roll"), row("yaw"), row("sway"));
+    assert!(close(table[roll].1, get("roll").quadratic));
+    assert!(close(table[roll].2[roll], get("roll").linear));
+    assert!(close(table[yaw].1, get("yaw").quadratic) && table[yaw].1 > 0.0);
+    // The entry given replaces the estimate.
+    assert_eq!(table[sway].1, 1.0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
