@@ -165,7 +165,8 @@ pub fn roll_params(hull: &Hull, rho: f64) -> Result<HullRoll, HullDampingError> 
         None => (reference[1], RollAxis::ReferencePoint),
     };
     let params = RollDampingParams {
-        roll_axis_height: -axis_y,
+        // + 0.0: an axis on the waterline is OG = 0, not -0.
+        roll_axis_height: -axis_y + 0.0,
         bilge_keels: hull.bilge_keels(),
         rho,
         ..RollDampingParams::new(breadth, draft, sigma, bilge_radius)
