@@ -385,10 +385,12 @@ fn main() {
          `--mooring-damping DOF=B,..` on the rigid DOFs, per unit length; each replaces the \
          element's field, `--fixed` holds the section) make the section float (`src/motion.rs`: rigid DOFs, elastic DOFs held, at rho = 1025 \
          kg/m^3 and g = 9.81 m/s^2); `--rao FILE` writes its motion per unit wave amplitude, \
-         `kR,j,heading,re,im` with `xi_j R^e_j / a`, and `--drift` then gives its mean drift in \
-         sway by the far field with the waves its motion radiates (the other DOFs' floating \
-         drift needs the pressure integration's motion terms: not computed yet, left out of the \
-         table). The tables' headers state the mass properties and the largest energy defect. \
+         `kR,j,heading,re,im` with `xi_j R^e_j / a`, and `--drift` then gives its mean drift: \
+         sway by the far field with the waves its motion radiates, the other DOFs by pressure \
+         integration over the moving section (roll about the roll reference point's mean \
+         position, an elastic DOF's generalized force in the body's axes; `fmu-pack pack \
+         --drift` packs them all). The tables' headers state the mass properties, the largest \
+         energy defect and the largest difference of the two methods' sway drift. \
          Moorings with a negative diagonal entry, or damping whose symmetric part has a negative \
          eigenvalue, are refused.\n"
     );
@@ -519,6 +521,43 @@ fn main() {
             d.horizontal_far_field(0),
             d.horizontal_far_field_moving(0, &motion),
             r.norm_sqr() + t.norm_sqr() - 1.0,
+        );
+    }
+    let _ = writeln!(
+        doc,
+        "\nIts mean drift by pressure integration over the moving section (`bem::Drift::\
+         near_field_moving`: relative wave elevation at the waterline, velocity squared, the \
+         pressure at the moved contour, the rotation of the first-order force and the \
+         rotation's second-order hydrostatics; roll about the reference point's mean position), \
+         per `rho g a^2` (roll per `rho g a^2 R`), heading 0. The sway by pressure integration \
+         against the far field above is the check; in long waves the heave drift tends to kR, \
+         the mean Lagrangian pressure `rho g k a^2 / 2` of the water the section rides with, \
+         over its breadth 2R (`src/motion/tests.rs`).\n"
+    );
+    let _ = writeln!(
+        doc,
+        "| kR | sway, far field | sway, pressure | difference | heave | roll |\n\
+         | --- | --- | --- | --- | --- | --- |"
+    );
+    let floating_drift = floating.sweep_drift(&floating_sweep).expect("drift");
+    for (((kr, forces), xi), values) in floating_sweep
+        .kr
+        .iter()
+        .zip(&floating_sweep.excitation)
+        .zip(&motions)
+        .zip(&floating_drift)
+    {
+        let d = forces.drift.as_ref().expect("drift");
+        let motion: Vec<_> = xi.column(0).iter().copied().collect();
+        let near = d.near_field_moving(0, &motion);
+        let far = d.horizontal_far_field_moving(0, &motion);
+        let _ = writeln!(
+            doc,
+            "| {kr} | {far:.5} | {:.5} | {:.1e} | {:.5} | {:.5} |",
+            near[0],
+            near[0] - far,
+            values[(1, 0)],
+            values[(2, 0)],
         );
     }
     if !out.quick {

@@ -19,6 +19,9 @@
 //! ```
 //!
 //! `K_ext` and `B_ext` are the user's external (mooring) stiffness and damping over the rigid DOFs.
+//! With [`Floating::with_viscous_roll`], `B_ext` gains in roll Ikeda's viscous damping
+//! linearized at a roll amplitude `phi_a`, frequency by frequency:
+//! `B_eq(omega) = B_l(omega, phi_a) + 8/(3 pi) omega phi_a B_q` ([`crate::viscous`]).
 //! Elastic DOFs are held (`xi = 0`): their structural mass and stiffness are not in a hull file.
 //! A section floats freely in equilibrium when `m = rho A` (the displaced mass) and `x_G = x_B`;
 //! another mass is accepted (a mooring's pretension holds it) and noted by the caller.
@@ -26,6 +29,7 @@
 use crate::hull::{DofKind, Hull, RigidKind};
 use crate::hydrostatics::Hydrostatics;
 use crate::sweep::SweepResult;
+use crate::viscous::{equivalent_roll_damping, RollDampingParams};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 use std::fmt;
@@ -138,6 +142,10 @@ pub struct Floating {
     damping: DMatrix<f64>,
     /// Gravity the restoring was made with (m/s^2).
     g: f64,
+    /// The index among the rigid DOFs of the first roll.
+    roll: Option<usize>,
+    /// Ikeda's roll damping input and the roll amplitude (rad) it is linearized at.
+    viscous_roll: Option<(RollDampingParams, f64)>,
 }
 
 fn check(field: &'static str, value: f64, lower: f64) -> Result<(), MotionError> {
@@ -274,6 +282,8 @@ impl Floating {
             }
         };
         Ok(Floating {
+            roll: kinds.iter().position(|(kind, _)| *kind == RigidKind::Roll),
+            viscous_roll: None,
             dof_count: hull.dof_count(),
             mass: mass / rho,
             restoring: (hydro + weight + external(&p.stiffness)) / rho,
@@ -299,11 +309,13 @@ impl Floating {
         let n = self.rigid.len();
         let w = Complex64::new(omega, 0.0);
         let i = Complex64::new(0.0, 1.0);
+        let mut damping = self.damping.clone();
+        if let (Some(r), Some(b_eq)) = (self.roll, self.viscous_roll_damping(omega)?) {
+            damping[(r, r)] += b_eq / self.viscous_roll.as_ref().map_or(1.0, |(p, _)| p.rho);
+        }
         let system = DMatrix::from_fn(n, n, |a, b| {
             let added = added_mass_per_rho[(self.rigid[a], self.rigid[b])];
-            -w * w * (self.mass[(a, b)] + added)
-                + i * w * self.damping[(a, b)]
-                + self.restoring[(a, b)]
+            -w * w * (self.mass[(a, b)] + added) + i * w * damping[(a, b)] + self.restoring[(a, b)]
         });
         let force = DVector::from_fn(n, |a, _| excitation_per_rho_g[self.rigid[a]] * g);
         let solved = system
@@ -401,6 +413,48 @@ impl Floating {
                 }))
             })
             .collect()
+    }
+
+    /// This section with Ikeda's viscous roll damping of `params` (per unit length, in water of
+    /// density `params.rho`) linearized at the roll amplitude `roll_amplitude` (rad, `>= 0`;
+    /// 0 keeps the linear parts only) added to the roll's external damping at every frequency.
+    ///
+    /// # Errors
+    /// A section without a rigid roll DOF, or an input Ikeda's formulas refuse (named).
+    pub fn with_viscous_roll(
+        mut self,
+        params: RollDampingParams,
+        roll_amplitude: f64,
+    ) -> Result<Floating, MotionError> {
+        if self.roll.is_none() {
+            return Err(MotionError::Field {
+                field: "viscous roll damping",
+                reason: "needs a rigid roll DOF".into(),
+            });
+        }
+        equivalent_roll_damping(&params, 1.0, roll_amplitude).map_err(|e| MotionError::Field {
+            field: "viscous roll damping",
+            reason: e.to_string(),
+        })?;
+        self.viscous_roll = Some((params, roll_amplitude));
+        Ok(self)
+    }
+
+    /// The equivalent linear viscous roll damping `B_eq(omega)` (N m s per m per rad) that
+    /// [`Floating::with_viscous_roll`] adds, or `None` without it.
+    ///
+    /// # Errors
+    /// A frequency Ikeda's formulas refuse (not finite and positive).
+    pub fn viscous_roll_damping(&self, omega: f64) -> Result<Option<f64>, MotionError> {
+        let Some((params, amplitude)) = &self.viscous_roll else {
+            return Ok(None);
+        };
+        equivalent_roll_damping(params, omega, *amplitude)
+            .map(Some)
+            .map_err(|e| MotionError::Field {
+                field: "viscous roll damping",
+                reason: e.to_string(),
+            })
     }
 
     /// Whether DOF `j` of the hull moves (a rigid DOF) rather than being held.

@@ -2,8 +2,10 @@
 //!
 //! Conventions (docs/DESIGN.md, "Slow and viscous forces"): per unit length of hull, SI units,
 //! roll angle `phi` positive as the section's roll DOF, the damping moment
-//! `M = -B_l phi_dot - B_q |phi_dot| phi_dot` ([`Damping`]). The roll axis lies at height `OG`
-//! above the waterline (`OG > 0`: axis above the water, `OG < 0`: below; Ikeda's sign).
+//! `M = -B_l phi_dot - B_q |phi_dot| phi_dot` ([`Damping`]). `OG` is Ikeda's distance from the
+//! waterline down to the roll axis: `OG > 0` the axis below the water, `OG < 0` above it (a
+//! ship's centre of gravity usually lies above: `OG < 0`); `OG = T` is the keel. The field
+//! [`RollDampingParams::roll_axis_height`] holds `OG` with this sign.
 //!
 //! Components (Ikeda, Himeno and Tanaka 1978; ITTC 2011 recommended procedure 7.5-02-07-04.5):
 //!
@@ -16,7 +18,8 @@
 //!   `gamma`, the pressure coefficient `C_P = 0.5 (0.87 e^-gamma - 4 e^(-0.187 gamma) + 3)` and
 //!   `C_R = r_max^2/T^2 C_P [(1 - f_1 R/T)(1 - OG/T - f_1 R/T) + f_2 (H_0 - f_1 R/T)^2]`;
 //!   Ikeda's equivalent linear value `4/(3 pi) rho T^4 omega phi_a C_R` is quadratic:
-//!   `B_q = rho T^4 C_R / 2`;
+//!   `B_q = rho T^4 max(C_R, 0) / 2` (the fit dips below zero for near-circular sections
+//!   rolling off their centre);
 //! - bilge keels (Ikeda 1978, ITTC): the normal force with
 //!   `C_D = 22.5 b/(pi l phi_a f) + 2.4` splits into a linear part `B_l = 60 rho l^2 b^2 omega
 //!   / pi^2` and a quadratic part `B_q = 2.4 rho l^3 b f` (`l`: roll axis to bilge, `b`: keel
@@ -36,9 +39,16 @@
 
 mod components;
 mod drag;
+mod hull;
+mod ship;
 
 pub use components::{bilge_keel, eddy_coefficient, eddy_making, friction, lewis_form, LewisForm};
 pub use drag::{cross_flow_drag_coefficient, cross_flow_force, CrossFlow};
+pub use hull::{
+    bilge_radius_from_area, hull_roll_damping, roll_natural_frequency, roll_params, section_drag,
+    section_estimate, HullDampingError, HullRoll, RollAxis, SectionDrag, SectionEstimate,
+};
+pub use ship::{ship_estimate, ShipEstimate};
 
 use std::fmt;
 
@@ -65,7 +75,7 @@ pub struct RollDampingParams {
     pub area_coefficient: f64,
     /// Bilge radius R (m).
     pub bilge_radius: f64,
-    /// Height of the roll axis above the waterline OG (m).
+    /// OG (m): the roll axis's depth below the waterline (negative above it; module docs).
     pub roll_axis_height: f64,
     /// Bilge keels, if any.
     pub bilge_keels: Option<BilgeKeels>,
@@ -255,6 +265,29 @@ pub fn roll_damping(
         bilge_keel: bilge_keel(params, omega, phi_a),
         warnings,
     })
+}
+
+/// The equivalent linear roll damping `B_l(omega, phi_a) + 8/(3 pi) omega phi_a B_q` of all
+/// components at `omega` (rad/s) and amplitude `phi_a` (rad, `>= 0`): at `phi_a = 0` the
+/// linear parts at vanishing amplitude (friction, the keels' normal force and hull pressure).
+pub fn equivalent_roll_damping(
+    params: &RollDampingParams,
+    omega: f64,
+    phi_a: f64,
+) -> Result<f64, ViscousError> {
+    params.validate()?;
+    if !omega.is_finite() || omega <= 0.0 {
+        return Err(ViscousError::new(
+            "omega",
+            omega,
+            "must be finite and positive",
+        ));
+    }
+    check_non_negative("phi_a", phi_a)?;
+    let total = friction(params, omega, phi_a)
+        .plus(eddy_making(params)?)
+        .plus(bilge_keel(params, omega, phi_a));
+    Ok(total.equivalent_linear(omega, phi_a))
 }
 
 /// A ship's roll damping: trapezoidal integral of the sections' dampings over `x` (m).

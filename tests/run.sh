@@ -45,10 +45,11 @@ cargo test -p hydrofmu --lib model::snapshot::fuzz -- --nocapture
 step "release build of the FMU binary and fmu-pack"
 cargo build --release --workspace
 
-step "report generators, quick mode: their numbers against docs/VALIDATION.md, docs/PERFORMANCE.md and docs/DRIFT.md"
+step "report generators, quick mode: their numbers against docs/VALIDATION.md, docs/PERFORMANCE.md, docs/DRIFT.md and docs/VISCOUS.md"
 cargo run --release -q -p fmu-pack --example validation -- --quick --out target/reports
 cargo run --release -q -p fmu-pack --example performance -- --quick --out target/reports
 cargo run --release -q -p fmu-pack --example drift -- --quick --out target/reports
+cargo run --release -q -p fmu-pack --example viscous -- --quick --out target/reports
 
 step "pytest (real FMU archives, built from the current source)"
 HYDROFMU_ROOT="$root" .venv/bin/python -m pytest -q tests/python

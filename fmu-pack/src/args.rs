@@ -157,6 +157,12 @@ pub struct SweepArgs {
     /// --drift gives the floating section's drift.
     #[arg(long, value_name = "FILE.csv")]
     pub rao: Option<PathBuf>,
+    /// With --rao: add to the roll's damping Ikeda's viscous roll damping estimated from the
+    /// section (docs/VISCOUS.md), linearized at this roll amplitude in degrees frequency by
+    /// frequency, B_eq = B_l(omega) + 8/(3 pi) omega phi_a B_q; 0 keeps the linear parts
+    /// (friction, bilge keels).
+    #[arg(long, value_name = "DEG", requires = "rao")]
+    pub viscous_amplitude: Option<f64>,
     /// The floating section's mass properties and moorings.
     #[command(flatten)]
     pub floating: FloatingArgs,

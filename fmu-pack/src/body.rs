@@ -155,7 +155,12 @@ pub fn dofs_arg(dofs: Option<&str>) -> Option<Vec<String>> {
 /// Packs a whole body's fit into one FMU: `documentation/scene.txt` holds the scene report
 /// and the fit in words ([`FittedBody::scene_text`]); the summary shows the fit on a line
 /// and the scene report below it.
-pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackError> {
+/// `estimate`: the ship's viscous estimate (`None`: the entries given, the others 0).
+pub fn pack(
+    fitted: &FittedBody,
+    args: &PackArgs,
+    estimate: Option<crate::viscous_args::Estimate>,
+) -> Result<PackSummary, PackError> {
     if args.network.is_some() {
         return Err(PackError(
             "--network applies to a section; a whole body's network is fitted to its data".into(),
@@ -168,7 +173,12 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
              narrower --band, raise --tol, or pass --allow-tolerance-miss to pack it anyway\n{text}"
         )));
     }
-    let mut body = args.viscous.apply(Body::whole(&fitted.database, None)?)?;
+    if estimate.is_none() {
+        args.viscous.refuse_estimate_options()?;
+    }
+    let mut body = args
+        .viscous
+        .apply(Body::whole(&fitted.database, None)?, estimate.as_ref())?;
     if args.drift {
         if fitted.database.drift.is_empty() {
             return Err(PackError(format!(
@@ -210,5 +220,18 @@ pub fn pack(fitted: &FittedBody, args: &PackArgs) -> Result<PackSummary, PackErr
     )?;
     summary.fit = Some(text.replace('\n', "; "));
     summary.scene = Some(fitted.report.to_string());
+    if args.viscous.viscous {
+        summary.viscous = match estimate {
+            Some(estimate) => estimate.lines,
+            None if args.viscous.no_estimate => {
+                vec!["the entries given (--no-estimate), the others 0".into()]
+            }
+            None => vec![
+                "the entries given, the others 0 (an imported database has no geometry to \
+                 estimate from)"
+                    .into(),
+            ],
+        };
+    }
     Ok(summary)
 }

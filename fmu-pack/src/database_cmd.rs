@@ -155,5 +155,5 @@ pub fn fit(args: &HullSweepArgs, options: &FitOptions) -> Result<FittedBody, Str
 /// `fmu-pack pack NAME.1`: one FMU for the body.
 pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     let fitted = fit(&args.sweep, &FitOptions::of_pack(args))?;
-    body::pack(&fitted, args)
+    body::pack(&fitted, args, None)
 }

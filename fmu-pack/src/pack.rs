@@ -36,7 +36,10 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     }
     let (resolved, sweep_params) = args.sweep.resolve()?;
     let floating = floating_for_drift(args)?;
-    let hull = args.viscous.apply(Body::section(&resolved))?;
+    let estimate = args.viscous.estimate(&resolved)?;
+    let hull = args
+        .viscous
+        .apply(Body::section(&resolved), estimate.as_ref())?;
     let mut report = None;
     let network = match &args.network {
         Some(path) => {
@@ -102,14 +105,21 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
         output: &args.output,
         fmi: args.fmi,
     };
-    pack_network(
+    let mut summary = pack_network(
         hull,
         network,
         args.keep_inf_mass,
         &target,
         report.as_ref(),
         args.drift.then_some(floating.as_ref()),
-    )
+    )?;
+    if args.viscous.viscous {
+        summary.viscous = match estimate {
+            Some(estimate) => estimate.lines,
+            None => vec!["the entries given (--no-estimate), the others 0".into()],
+        };
+    }
+    Ok(summary)
 }
 
 /// The floating section whose drift `--drift` packs (the whole hull floats, whatever DOFs the

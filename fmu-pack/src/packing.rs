@@ -76,6 +76,8 @@ pub struct PackSummary {
     pub scene: Option<String>,
     /// The OSP model description written beside the archive.
     pub osp: Option<PathBuf>,
+    /// The viscous damping packed and where it comes from, one line each.
+    pub viscous: Vec<String>,
 }
 
 /// A network computed for the archive: the pipeline's products and the scene report.
@@ -107,6 +109,12 @@ impl fmt::Display for PackSummary {
         }
         if let Some(fit) = &self.fit {
             write!(f, "\n  fit              {fit}")?;
+        }
+        if !self.viscous.is_empty() {
+            write!(f, "\n  viscous")?;
+            for line in &self.viscous {
+                write!(f, "\n    {line}")?;
+            }
         }
         if let Some(scene) = &self.scene {
             write!(f, "\n  scene")?;
@@ -227,6 +235,7 @@ pub fn pack_documented(
         states: packed.states,
         keep_inf_mass,
         osp,
+        viscous: Vec::new(),
         scene: packed.scene,
         fit: None,
     })

@@ -208,6 +208,14 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
             "--network applies to a section; a ship's network is fitted to its sweep".into(),
         ));
     }
+    // The viscous estimate before a sweep that may take minutes.
+    let estimate = match args.viscous.viscous && !args.viscous.no_estimate {
+        true => Some(crate::viscous_args::ship_estimate(
+            &args.viscous,
+            &resolve(&args.sweep)?.0,
+        )?),
+        false => None,
+    };
     let fitted = fit_with_drift(&args.sweep, &FitOptions::of_pack(args), args.drift)?;
-    body::pack(&fitted, args)
+    body::pack(&fitted, args, estimate)
 }

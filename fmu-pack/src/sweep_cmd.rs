@@ -73,6 +73,10 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
     // The mass properties before a sweep that may take minutes.
     let floating =
         crate::floating::resolve(&hull, &args.floating, args.rao.as_ref().map(|_| "--rao"))?;
+    let floating = match (floating, args.viscous_amplitude) {
+        (Some(floating), Some(degrees)) => Some(viscous_roll(&hull, floating, degrees)?),
+        (floating, _) => floating,
+    };
     let exports = args.wamit.is_some() || args.netcdf.is_some();
     if exports {
         hydrofmu::database::section::wamit_names(&hull)
@@ -192,6 +196,44 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The floating section with Ikeda's roll damping of `hull` linearized at `degrees`
+/// (`--viscous-amplitude`), its table line saying so.
+fn viscous_roll(
+    hull: &Hull,
+    (floating, line): crate::floating::FloatingSection,
+    degrees: f64,
+) -> Result<crate::floating::FloatingSection, String> {
+    use hydrofmu::fmu::description::DEFAULT_RHO;
+    if !(degrees.is_finite() && (0.0..90.0).contains(&degrees)) {
+        return Err(format!(
+            "--viscous-amplitude {degrees}: expected a roll amplitude in [0, 90) deg"
+        ));
+    }
+    let roll = hydrofmu::viscous::roll_params(hull, DEFAULT_RHO)
+        .map_err(|e| format!("--viscous-amplitude: {e}"))?;
+    let p = roll.params;
+    let floating = floating
+        .with_viscous_roll(p, degrees.to_radians())
+        .map_err(|e| format!("--viscous-amplitude: {}: {e}", hull.name()))?;
+    let line = format!(
+        "{line}; viscous roll damping added: Ikeda at zero speed (docs/VISCOUS.md) linearized \
+         at roll amplitude {degrees} deg, B_eq = B_l(omega) + 8/(3 pi) omega phi_a B_q, with B \
+         {} m, T {} m, sigma {}, bilge radius {} m, OG {} m ({}), {}",
+        p.breadth,
+        p.draft,
+        p.area_coefficient,
+        p.bilge_radius,
+        p.roll_axis_height,
+        roll.axis.describe(),
+        p.bilge_keels
+            .map_or("no bilge keels".to_string(), |k| format!(
+                "bilge keels {} m on {} of the length",
+                k.breadth, k.length_fraction
+            ))
+    );
+    Ok((floating, line))
 }
 
 /// Stages `--wamit` and `--netcdf` of a section: its 1 m slice per unit length at the

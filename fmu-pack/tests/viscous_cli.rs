@@ -70,7 +70,12 @@ fn the_coefficients_are_packed_and_bad_ones_refused() {
     assert_eq!(model.value(Quantity::DampingLinear(0, 0)).unwrap(), 120.0);
     assert_eq!(model.value(Quantity::DampingLinear(1, 0)).unwrap(), 5.0);
     assert_eq!(model.value(Quantity::DampingQuadratic(0)).unwrap(), 800.0);
-    assert_eq!(model.value(Quantity::DampingQuadratic(1)).unwrap(), 0.0);
+    // Heave not given: the semicircle's cross-flow drag estimate, 0.5 rho C_D B.
+    let heave =
+        hydrofmu::viscous::section_drag(&hydrofmu::hull::Hull::semicircle(1.0).unwrap(), 1025.0)
+            .unwrap()[1]
+            .quadratic;
+    assert_eq!(model.value(Quantity::DampingQuadratic(1)).unwrap(), heave);
     let description = entry(&damped, "modelDescription.xml").unwrap();
     for name in [
         "current.speed",

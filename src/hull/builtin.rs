@@ -60,6 +60,7 @@ impl Hull {
             dofs,
             notes: Vec::new(),
             mass: None,
+            bilge_keels: None,
         })
     }
 
@@ -89,6 +90,7 @@ impl Hull {
             ],
             notes: Vec::new(),
             mass: None,
+            bilge_keels: None,
         })
     }
 
@@ -127,6 +129,7 @@ impl Hull {
             ],
             notes: Vec::new(),
             mass: None,
+            bilge_keels: None,
         })
     }
 }

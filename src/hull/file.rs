@@ -51,6 +51,7 @@ impl Hull {
         let unnamed = Hull {
             name: String::new(),
             mass: None,
+            bilge_keels: None,
             ..self.clone()
         };
         fnv1a(&unnamed.to_xml_string())
@@ -116,6 +117,9 @@ impl Hull {
         }
         if let Some(mass) = &self.mass {
             out.push_str(&mass.to_xml(num));
+        }
+        if let Some(keels) = &self.bilge_keels {
+            out.push_str(&super::keels::to_xml(keels, num));
         }
         out.push_str("</hull>\n");
         out
@@ -255,6 +259,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
     let mut geometry: Option<Geometry> = None;
     let mut dofs: Vec<FileDof> = Vec::new();
     let mut mass_element: Option<&Element> = None;
+    let mut keels: Option<(crate::viscous::BilgeKeels, usize)> = None;
     for child in &root.children {
         let line = child.line;
         if matches!(child.name.as_str(), "contour" | "circle" | "lewis") {
@@ -440,12 +445,23 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
                 }
                 mass_element = Some(child);
             }
+            "bilge_keels" => {
+                if let Some((_, first)) = keels {
+                    return Err(err(
+                        line,
+                        format!(
+                            "second <bilge_keels>: the keels are already given on line {first}"
+                        ),
+                    ));
+                }
+                keels = Some((super::keels::parse(child).map_err(at)?, line));
+            }
             other => {
                 return Err(err(
                     line,
                     format!(
                         "unknown element <{other}> in <hull>; expected contour, circle, lewis, \
-                         rigid, craig_bampton, mode or mass"
+                         rigid, craig_bampton, mode, mass or bilge_keels"
                     ),
                 ))
             }
@@ -638,6 +654,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
         dofs,
         notes,
         mass,
+        bilge_keels: keels.map(|(k, _)| k),
     })
 }
 

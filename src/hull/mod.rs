@@ -40,6 +40,7 @@
 //!   and [`Hull::lewis`], the Lewis form of a ship section (`lewis.rs`);
 //! * `craig_bampton.rs`: the thin-beam modes of the semicircle (seed eqs. 4-6);
 //! * `file.rs`: hull files (`docs/HULL_FORMAT.md`) read with [`crate::xml`] and written back;
+//!   `mass.rs` and `keels.rs` their `<mass>` and `<bilge_keels>` elements;
 //! * `validate.rs`: the geometric checks of a file's contour (waterline, self-contact,
 //!   orientation) and its arc-length knots.
 
@@ -48,6 +49,7 @@ mod contact;
 mod craig_bampton;
 mod file;
 pub(crate) use file::{valid_dof_name, valid_hull_name};
+mod keels;
 mod lewis;
 mod mass;
 pub use mass::{HullMass, Mooring, SectionMass};
@@ -228,6 +230,8 @@ pub struct Hull {
     notes: Vec<String>,
     /// The file's `<mass>`: the section floats (absent: held fixed).
     mass: Option<HullMass>,
+    /// The file's `<bilge_keels>` (viscous roll damping only).
+    bilge_keels: Option<crate::viscous::BilgeKeels>,
 }
 
 fn rigid_displacement(kind: RigidKind, reference: Point, p: Point) -> Point {
@@ -262,6 +266,12 @@ impl Hull {
     /// section floats ([`HullMass::properties`], [`crate::motion`]).
     pub fn mass(&self) -> Option<&HullMass> {
         self.mass.as_ref()
+    }
+
+    /// The bilge keels of the hull file's `<bilge_keels>` element, if it has one: they enter
+    /// only the viscous roll damping estimate ([`crate::viscous::hull_roll_damping`]).
+    pub fn bilge_keels(&self) -> Option<crate::viscous::BilgeKeels> {
+        self.bilge_keels
     }
 
     /// This hull with the DOFs `dofs` (a subset of its own); the moorings of DOFs left out go.

@@ -327,3 +327,49 @@ fn the_mass_matrix_is_symmetric_about_any_roll_reference() {
         assert!((mass[(2, 2)] - roll).abs() <= 1e-12, "{mass}");
     }
 }
+
+#[test]
+fn viscous_roll_damping_is_added_at_every_frequency_and_lowers_the_roll() {
+    let (hull, floating) = free_semicircle();
+    let params = crate::viscous::roll_params(&hull, RHO).unwrap().params;
+    let kr = 1.5;
+    let omega = (kr * G).sqrt();
+    let (added, excitation, _) = solve(&hull, kr);
+    let plain = floating.rao(omega, G, &added, &excitation[0]).unwrap();
+    let amplitude = 0.2;
+    let damped = floating
+        .clone()
+        .with_viscous_roll(params, amplitude)
+        .unwrap();
+    let b_eq = damped.viscous_roll_damping(omega).unwrap().unwrap();
+    let by_hand = crate::viscous::equivalent_roll_damping(&params, omega, amplitude).unwrap();
+    assert_eq!(b_eq, by_hand);
+    assert!(b_eq > 0.0);
+    let rolled = damped.rao(omega, G, &added, &excitation[0]).unwrap();
+    assert!(
+        rolled[2].norm() < plain[2].norm(),
+        "{} vs {}",
+        rolled[2],
+        plain[2]
+    );
+    // Zero amplitude: friction alone.
+    let still = floating.clone().with_viscous_roll(params, 0.0).unwrap();
+    let friction = crate::viscous::friction(&params, omega, 0.0).linear;
+    assert_eq!(still.viscous_roll_damping(omega).unwrap(), Some(friction));
+    assert_eq!(floating.viscous_roll_damping(omega).unwrap(), None);
+    // A section without roll, and a refused amplitude, name the damping.
+    let heave = hull.select_dofs(&["sway", "heave"]).unwrap();
+    let statics = hydrostatics::stiffness(&heave).unwrap();
+    let properties = MassProperties {
+        mass: RHO * statics.submerged_area,
+        centre_of_gravity: [0.0, -0.2],
+        radius_of_gyration: 0.3,
+        stiffness: DMatrix::zeros(0, 0),
+        damping: DMatrix::zeros(0, 0),
+    };
+    let unrolled = Floating::new(&heave, &statics, &properties, RHO, G).unwrap();
+    let e = unrolled.with_viscous_roll(params, 0.1).unwrap_err();
+    assert!(e.to_string().contains("needs a rigid roll DOF"), "{e}");
+    let e = floating.with_viscous_roll(params, -0.1).unwrap_err();
+    assert!(e.to_string().contains("phi_a"), "{e}");
+}

@@ -117,9 +117,11 @@ pub fn eddy_coefficient(p: &RollDampingParams) -> Result<f64, ViscousError> {
     Ok((r_max / t).powi(2) * c_p * arm)
 }
 
-/// Ikeda's eddy making at zero speed, quadratic: `B_q = rho T^4 C_R / 2`.
+/// Ikeda's eddy making at zero speed, quadratic: `B_q = rho T^4 C_R / 2`, with a negative
+/// `C_R` (near-circular sections rolling off their centre, where the fit dips below zero)
+/// taken as 0: eddies do not feed energy into the roll.
 pub fn eddy_making(p: &RollDampingParams) -> Result<Damping, ViscousError> {
-    let c_r = eddy_coefficient(p)?;
+    let c_r = eddy_coefficient(p)?.max(0.0);
     Ok(Damping {
         linear: 0.0,
         quadratic: 0.5 * p.rho * p.draft.powi(4) * c_r,
@@ -168,10 +170,10 @@ pub fn bilge_keel(p: &RollDampingParams, omega: f64, phi_a: f64) -> Damping {
     let bb = m2 * m2 / (3.0 * (h0 - 0.215 * m1))
         + (1.0 - m1).powi(2) * (2.0 * m3 - m2) / (6.0 * (1.0 - 0.215 * m1))
         + m1 * (m3 * m5 + m4 * m6);
-    let cp_minus = -22.5 * b / (PI * l * phi_a * f) - 1.2;
-    let cp_plus = 1.2;
-    let pressure =
-        4.0 / (3.0 * PI) * p.rho * l * l * omega * phi_a * t * t * (-a * cp_minus + bb * cp_plus);
+    // phi_a (-a C_P- + bb C_P+) with C_P- = -22.5 b/(pi l phi_a f) - 1.2, C_P+ = 1.2, written
+    // so that it stays finite at phi_a = 0.
+    let pressure_factor = a * (22.5 * b / (PI * l * f) + 1.2 * phi_a) + 1.2 * bb * phi_a;
+    let pressure = 4.0 / (3.0 * PI) * p.rho * l * l * omega * t * t * pressure_factor;
     Damping {
         linear: keels.length_fraction * (normal_linear + pressure.max(0.0)),
         quadratic: keels.length_fraction * normal_quadratic,
