@@ -53,7 +53,7 @@ fn pack(dir: &Path, hull: &str, name: &str, extra: &[&str]) -> (bool, PathBuf, S
 fn rows(archive: &Path) -> Vec<(String, f64, Vec<f64>)> {
     let text = common::archive_member(archive, "resources/viscous.csv").unwrap();
     text.lines()
-        .filter(|l| !l.starts_with('#') && !l.starts_with("dof,"))
+        .filter(|l| !l.starts_with('#') && !l.starts_with("dof,") && !l.starts_with("frame,"))
         .map(|line| {
             let mut fields = line.split(',');
             let dof = fields.next().unwrap().to_string();

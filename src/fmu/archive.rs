@@ -78,7 +78,7 @@ use super::description::FIXED_XML;
 use super::{osp, DescriptionInfo, DofUnit, Extent, Layout, Resources};
 use crate::database::Database;
 use crate::hull::Hull;
-use crate::model::viscous::{parse_csv, write_csv, Viscous};
+use crate::model::viscous::{parse_csv, write_csv, Frame, Viscous};
 use crate::model::{Model, ModelOptions};
 use crate::network::Network;
 use crate::sweep::{ExcitationPart, SweepResult};
@@ -306,9 +306,18 @@ impl Body {
         quadratic: DVector<f64>,
     ) -> Result<Body, ArchiveError> {
         let names: Vec<String> = self.dofs.iter().map(|d| d.name.clone()).collect();
-        Viscous::new(&names, linear.clone(), quadratic.clone())?;
+        Viscous::new(&names, self.frame(), linear.clone(), quadratic.clone())?;
         self.viscous = Some((linear, quadratic));
         Ok(self)
+    }
+
+    /// Where the body's translations point for the current: a section's sway along x, a
+    /// whole body's surge along x and sway along y.
+    fn frame(&self) -> Frame {
+        match self.extent {
+            Extent::PerUnitLength => Frame::Section,
+            Extent::WholeBody => Frame::Body,
+        }
     }
 
     /// `resources/viscous.csv` for the network's DOFs `names` (a subset of the body's).
@@ -327,7 +336,7 @@ impl Body {
         let k = index.len();
         let linear = DMatrix::from_fn(k, k, |i, j| linear[(index[i], index[j])]);
         let quadratic = DVector::from_fn(k, |i, _| quadratic[index[i]]);
-        Ok(Some(write_csv(names, &linear, &quadratic)))
+        Ok(Some(write_csv(names, self.frame(), &linear, &quadratic)))
     }
 }
 
@@ -525,7 +534,7 @@ impl Archive {
             layout = layout.with_drift().map_err(|e| e.to_string())?;
         }
         if let Some(text) = &resources.viscous_csv {
-            let (linear, quadratic) = parse_csv(text, model.dof_names())?;
+            let (_, linear, quadratic) = parse_csv(text, model.dof_names())?;
             layout = layout
                 .with_viscous(&linear, &quadratic)
                 .map_err(|e| e.to_string())?;

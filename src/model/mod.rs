@@ -388,10 +388,11 @@ impl Model {
             model.drift = Some(drift_table(text, &names)?);
         }
         if let Some(text) = &resources.viscous_csv {
-            let (linear, quadratic) =
+            let (frame, linear, quadratic) =
                 viscous::parse_csv(text, &names).map_err(ModelError::Variable)?;
             model.set_viscous(Some(
-                viscous::Viscous::new(&names, linear, quadratic).map_err(ModelError::Variable)?,
+                viscous::Viscous::new(&names, frame, linear, quadratic)
+                    .map_err(ModelError::Variable)?,
             ));
         }
         if let Some(text) = &resources.hydrostatics_csv {

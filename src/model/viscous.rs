@@ -7,13 +7,16 @@
 //! ```
 //!
 //! `U` is `current.speed` (m/s), `psi` is `current.heading` (deg, 0 towards +x). The current
-//! moves the rigid translations of known direction: `surge` (a = 1), and `sway` — along the
-//! current's x axis for a section (a = 1: a section's current is along its sway axis), along
-//! y for a body that also has `surge` (b = 1). Every other DOF (heave, rotations, elastic
-//! modes) sees no current. `B_l` needs a positive semidefinite symmetric part, `B_q >= 0`.
+//! moves the rigid translations of known direction ([`Frame`]): a section's `sway` is along the
+//! current's x axis (a = 1: a section's current is along its sway axis); a whole body's (ship,
+//! database) `surge` is along x (a = 1) and its `sway` along y (b = 1). Every other DOF (heave,
+//! rotations, elastic modes) sees no current. `B_l` needs a positive semidefinite symmetric
+//! part, `B_q >= 0`.
 //!
-//! `resources/viscous.csv`: `#` comment lines, a header `dof,quadratic,<dof_1>,..,<dof_n>`,
-//! then one row per DOF in the network's order: `<dof_i>,B_q[i],B_l[i,1],..,B_l[i,n]`.
+//! `resources/viscous.csv`: `#` comment lines, a line `frame,section` or `frame,body`, a header
+//! `dof,quadratic,<dof_1>,..,<dof_n>`, then one row per DOF in the network's order:
+//! `<dof_i>,B_q[i],B_l[i,1],..,B_l[i,n]`. Without the frame line, `sway` is along y when the
+//! DOFs include `surge`, else along x.
 
 use crate::fmu::variables::Quantity;
 use nalgebra::{DMatrix, DVector};
@@ -42,21 +45,51 @@ pub struct Viscous {
     diagonal: bool,
 }
 
-/// `(a, b)` of a DOF (module docs); `has_surge`: the body has a surge DOF.
-fn current_axis(name: &str, has_surge: bool) -> (f64, f64) {
-    match name {
-        "surge" => (1.0, 0.0),
-        "sway" if has_surge => (0.0, 1.0),
-        "sway" => (1.0, 0.0),
+/// Where a body's translations point, for the current.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frame {
+    /// A 2D section: `sway` along x.
+    Section,
+    /// A whole body (ship, database): `surge` along x, `sway` along y.
+    Body,
+}
+
+impl Frame {
+    /// The word in `viscous.csv`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Frame::Section => "section",
+            Frame::Body => "body",
+        }
+    }
+
+    /// The frame of a `viscous.csv` without its frame line: a body when the DOFs include
+    /// `surge`.
+    fn guessed(names: &[String]) -> Frame {
+        if names.iter().any(|n| n == "surge") {
+            Frame::Body
+        } else {
+            Frame::Section
+        }
+    }
+}
+
+/// `(a, b)` of a DOF (module docs).
+fn current_axis(name: &str, frame: Frame) -> (f64, f64) {
+    match (name, frame) {
+        ("surge", _) => (1.0, 0.0),
+        ("sway", Frame::Body) => (0.0, 1.0),
+        ("sway", Frame::Section) => (1.0, 0.0),
         _ => (0.0, 0.0),
     }
 }
 
 impl Viscous {
-    /// Damping for the DOFs `names` (no current yet); the coefficients are checked
-    /// ([`Viscous::check`]).
+    /// Damping for the DOFs `names` of a body in `frame` (no current yet); the coefficients
+    /// are checked ([`Viscous::check`]).
     pub fn new(
         names: &[String],
+        frame: Frame,
         linear: DMatrix<f64>,
         quadratic: DVector<f64>,
     ) -> Result<Viscous, String> {
@@ -72,21 +105,20 @@ impl Viscous {
         let mut viscous = Viscous {
             linear,
             quadratic,
-            ..Viscous::zeros(names)
+            ..Viscous::zeros(names, frame)
         };
         viscous.diagonal = is_diagonal(&viscous.linear);
         viscous.check()?;
         Ok(viscous)
     }
 
-    /// Zero coefficients for the DOFs `names`.
-    pub fn zeros(names: &[String]) -> Viscous {
+    /// Zero coefficients for the DOFs `names` of a body in `frame`.
+    pub fn zeros(names: &[String], frame: Frame) -> Viscous {
         let n = names.len();
-        let has_surge = names.iter().any(|n| n == "surge");
         Viscous {
             linear: DMatrix::zeros(n, n),
             quadratic: DVector::zeros(n),
-            axes: names.iter().map(|n| current_axis(n, has_surge)).collect(),
+            axes: names.iter().map(|n| current_axis(n, frame)).collect(),
             speed: 0.0,
             heading: 0.0,
             current: DVector::zeros(n),
@@ -282,14 +314,35 @@ fn check_linear(i: usize, j: usize, value: f64) -> Result<(), String> {
     Ok(())
 }
 
-/// Parses `viscous.csv` (module docs) for the DOFs `names`: `(B_l, B_q)`.
-pub fn parse_csv(text: &str, names: &[String]) -> Result<(DMatrix<f64>, DVector<f64>), String> {
+/// Parses `viscous.csv` (module docs) for the DOFs `names`: the frame, `B_l` and `B_q`.
+pub fn parse_csv(
+    text: &str,
+    names: &[String],
+) -> Result<(Frame, DMatrix<f64>, DVector<f64>), String> {
     let source = "resources/viscous.csv";
     let mut rows = text
         .lines()
         .enumerate()
         .map(|(k, l)| (k + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+        .peekable();
+    let frame = match rows
+        .peek()
+        .and_then(|(line, l)| Some((*line, l.strip_prefix("frame,")?)))
+    {
+        Some((line, word)) => {
+            let frame = [Frame::Section, Frame::Body]
+                .into_iter()
+                .find(|f| f.word() == word.trim())
+                .ok_or(format!(
+                    "{source}:{line}: frame '{}': expected section or body",
+                    word.trim()
+                ))?;
+            rows.next();
+            frame
+        }
+        None => Frame::guessed(names),
+    };
     let (line, header) = rows.next().ok_or(format!("{source}: no header"))?;
     let fields: Vec<&str> = header.split(',').map(str::trim).collect();
     let n = names.len();
@@ -332,14 +385,21 @@ pub fn parse_csv(text: &str, names: &[String]) -> Result<(DMatrix<f64>, DVector<
     if let Some((line, _)) = rows.next() {
         return Err(format!("{source}:{line}: more rows than DOFs"));
     }
-    Ok((linear, quadratic))
+    Ok((frame, linear, quadratic))
 }
 
-/// The text of `viscous.csv` for these coefficients (exact: shortest round-trip numbers).
-pub fn write_csv(names: &[String], linear: &DMatrix<f64>, quadratic: &DVector<f64>) -> String {
+/// The text of `viscous.csv` for these coefficients of a body in `frame` (exact: shortest
+/// round-trip numbers).
+pub fn write_csv(
+    names: &[String],
+    frame: Frame,
+    linear: &DMatrix<f64>,
+    quadratic: &DVector<f64>,
+) -> String {
     let mut text = String::from(
         "# hydrofmu viscous damping: F = -B_l v_r - B_q |v_r| v_r (docs/CURRENT.md)\n",
     );
+    text.push_str(&format!("frame,{}\n", frame.word()));
     text.push_str("dof,quadratic");
     for name in names {
         text.push(',');

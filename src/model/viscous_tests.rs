@@ -2,7 +2,7 @@
 //! and every output bit for bit as without it at zero coefficients and no current.
 
 use super::tests::{TWO_DOF_EXCITATION, TWO_DOF_NETWORK};
-use super::viscous::{parse_csv, write_csv, Viscous};
+use super::viscous::{parse_csv, write_csv, Frame, Viscous};
 use super::*;
 use crate::fmi::{Instance, Status};
 use crate::fmu::variables::WaveParameter;
@@ -25,7 +25,7 @@ fn resources(viscous: Option<(DMatrix<f64>, DVector<f64>)>) -> Resources {
     Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false))
         .unwrap()
         .with_excitation(Some(TWO_DOF_EXCITATION.into()))
-        .with_viscous(viscous.map(|(l, q)| write_csv(&names(), &l, &q)))
+        .with_viscous(viscous.map(|(l, q)| write_csv(&names(), Frame::Section, &l, &q)))
 }
 
 fn damped() -> Model {
@@ -70,9 +70,33 @@ fn the_force_is_minus_linear_minus_quadratic_of_the_velocity_relative_to_the_cur
 }
 
 #[test]
+fn a_whole_body_s_sway_is_across_and_a_section_s_along_the_current_s_x_axis() {
+    // A ship packed without surge still has its sway along y; a section's sway is along x.
+    // Without the frame line (older archives) the DOFs decide: sway along x without surge.
+    let names: Vec<String> = ["sway", "heave", "yaw"].map(String::from).to_vec();
+    let current = |frame: Frame| {
+        let mut v = Viscous::new(&names, frame, DMatrix::zeros(3, 3), DVector::zeros(3)).unwrap();
+        v.set_current(2.0, 30.0).unwrap();
+        v.current()[0]
+    };
+    assert!((current(Frame::Body) - 1.0).abs() < 1e-15);
+    assert!((current(Frame::Section) - 3f64.sqrt()).abs() < 1e-15);
+    let text = write_csv(
+        &names,
+        Frame::Body,
+        &DMatrix::zeros(3, 3),
+        &DVector::zeros(3),
+    );
+    assert!(text.contains("\nframe,body\n"), "{text}");
+    assert_eq!(parse_csv(&text, &names).unwrap().0, Frame::Body);
+    let old = text.replace("frame,body\n", "");
+    assert_eq!(parse_csv(&old, &names).unwrap().0, Frame::Section);
+}
+
+#[test]
 fn a_ship_sees_the_current_on_surge_and_sway() {
     let ship: Vec<String> = ["surge", "sway", "heave", "yaw"].map(String::from).to_vec();
-    let mut v = Viscous::new(&ship, DMatrix::zeros(4, 4), DVector::zeros(4)).unwrap();
+    let mut v = Viscous::new(&ship, Frame::Body, DMatrix::zeros(4, 4), DVector::zeros(4)).unwrap();
     v.set_current(2.0, 30.0).unwrap();
     let c = v.current();
     assert!((c[0] - 2.0 * 30f64.to_radians().cos()).abs() < 1e-15);
@@ -203,8 +227,9 @@ fn bad_coefficients_and_currents_are_refused_naming_them() {
 
 #[test]
 fn the_csv_round_trips_and_bad_files_are_refused() {
-    let text = write_csv(&names(), &linear(), &quadratic());
-    let (l, q) = parse_csv(&text, &names()).unwrap();
+    let text = write_csv(&names(), Frame::Section, &linear(), &quadratic());
+    let (frame, l, q) = parse_csv(&text, &names()).unwrap();
+    assert_eq!(frame, Frame::Section);
     assert_eq!((l, q), (linear(), quadratic()));
     let bad = [
         ("", "no header"),
@@ -226,12 +251,18 @@ fn the_csv_round_trips_and_bad_files_are_refused() {
             "dof,quadratic,sway,roll\nsway,1,2,3\nroll,0,0,0\nroll,0,0,0\n",
             "more rows",
         ),
+        ("frame,ship\ndof,quadratic,sway,roll\n", "frame 'ship'"),
     ];
     for (text, expected) in bad {
         let e = parse_csv(text, &names()).unwrap_err();
         assert!(e.contains(expected) && e.contains("viscous.csv"), "{e}");
     }
-    let negative = write_csv(&names(), &linear(), &DVector::from_vec(vec![1.0, -2.0]));
+    let negative = write_csv(
+        &names(),
+        Frame::Section,
+        &linear(),
+        &DVector::from_vec(vec![1.0, -2.0]),
+    );
     let e = Model::from_resources(
         &Resources::new(TWO_DOF_NETWORK.into(), None, Resources::options_text(false))
             .unwrap()
@@ -244,11 +275,11 @@ fn the_csv_round_trips_and_bad_files_are_refused() {
 
 #[test]
 fn the_explicit_step_bound_follows_the_derivative() {
-    let mut v = Viscous::new(&names(), linear(), quadratic()).unwrap();
+    let mut v = Viscous::new(&names(), Frame::Section, linear(), quadratic()).unwrap();
     v.set_current(0.5, 0.0).unwrap();
     // h < 2 m / (B_l + 2 B_q |v - c|) = 2 * 10 / (2 + 2 * 3 * 1.5)
     assert!((v.step_bound(0, 10.0, 2.0) - 20.0 / 11.0).abs() < 1e-15);
-    let free = Viscous::zeros(&names());
+    let free = Viscous::zeros(&names(), Frame::Section);
     assert_eq!(free.step_bound(1, 1.0, 3.0), f64::INFINITY);
 }
 
@@ -326,8 +357,8 @@ fn the_instance_declares_and_serves_the_viscous_variables() {
 #[test]
 fn a_diagonal_linear_damping_gives_the_full_products_force() {
     let diagonal = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]);
-    let mut fast = Viscous::new(&names(), diagonal.clone(), quadratic()).unwrap();
-    let mut full = Viscous::new(&names(), diagonal, quadratic()).unwrap();
+    let mut fast = Viscous::new(&names(), Frame::Section, diagonal.clone(), quadratic()).unwrap();
+    let mut full = Viscous::new(&names(), Frame::Section, diagonal, quadratic()).unwrap();
     // An off-diagonal entry set and reset to zero: still the same matrix, now by products.
     full.set_linear(0, 1, 1.0).unwrap();
     full.set_linear(0, 1, 0.0).unwrap();
@@ -340,7 +371,7 @@ fn a_diagonal_linear_damping_gives_the_full_products_force() {
         full.force(&v, &mut b);
         assert_eq!(a, b);
     }
-    let mut coupled = Viscous::new(&names(), linear(), quadratic()).unwrap();
+    let mut coupled = Viscous::new(&names(), Frame::Section, linear(), quadratic()).unwrap();
     coupled.force(&DVector::from_vec(vec![1.0, 1.0]), &mut a);
     assert_eq!(a[0], -(2.0 + 0.5) - 3.0);
 }

@@ -3,7 +3,7 @@
 use super::*;
 use crate::fmu::variables::Quantity;
 use crate::model::tests::TWO_DOF_NETWORK;
-use crate::model::viscous::write_csv;
+use crate::model::viscous::{write_csv, Frame};
 use nalgebra::{DMatrix, DVector};
 
 #[test]
@@ -11,7 +11,7 @@ fn the_viscous_variables_work_through_the_c_functions() {
     let names = vec!["sway".to_string(), "roll".to_string()];
     let linear = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]);
     let quadratic = DVector::from_vec(vec![3.0, 0.5]);
-    let csv = write_csv(&names, &linear, &quadratic);
+    let csv = write_csv(&names, Frame::Section, &linear, &quadratic);
     let fmu = Unpacked::with_files(
         TWO_DOF_NETWORK,
         false,
