@@ -239,7 +239,12 @@ fn bench_viscous(c: &mut Criterion, text: &str) {
     let n = names.len();
     let linear = nalgebra::DMatrix::from_diagonal_element(n, n, 200.0);
     let quadratic = DVector::from_element(n, 1000.0);
-    let csv = hydrofmu::model::viscous::write_csv(&names, &linear, &quadratic);
+    let csv = hydrofmu::model::viscous::write_csv(
+        &names,
+        hydrofmu::model::viscous::Frame::Section,
+        &linear,
+        &quadratic,
+    );
     std::fs::write(dir.join(Resources::VISCOUS_FILE), csv).unwrap();
     let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
     let uri = CString::new(format!("file://{}", dir.display())).unwrap();
