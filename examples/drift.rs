@@ -22,6 +22,8 @@ use nalgebra::DMatrix;
 use std::fmt::Write as _;
 use std::time::Instant;
 
+#[path = "report/csv.rs"]
+mod csv;
 #[path = "report/mod.rs"]
 mod report;
 #[path = "report/section_motion.rs"]
@@ -58,38 +60,29 @@ struct Measured {
 }
 
 fn measurements() -> Vec<Measured> {
-    let text = include_str!("../tests/data/sundsdal/scenario_A.csv");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
-    let names = [
-        "xi_B",
-        "height_index",
-        "h_over_lambda",
-        "steepness_ka",
-        "Fy_amp",
-        "Fz_amp",
-        "Fy_mean_coef",
-        "Fz_mean_coef",
-    ];
-    let index: Vec<usize> = names.iter().map(|n| column(n)).collect();
-    lines
-        .map(|line| {
-            let cells: Vec<f64> = line
-                .split(',')
-                .map(|x| x.parse().unwrap_or(f64::NAN))
-                .collect();
-            let v = |i: usize| cells[index[i]];
-            Measured {
-                xi: v(0),
-                height: v(1) as usize,
-                h_over_lambda: v(2),
-                steepness: v(3),
-                fy: v(4),
-                fz: v(5),
-                drift_y: v(6),
-                drift_z: v(7),
-            }
+    let rows = csv::columns(
+        include_str!("../tests/data/sundsdal/scenario_A.csv"),
+        [
+            "xi_B",
+            "height_index",
+            "h_over_lambda",
+            "steepness_ka",
+            "Fy_amp",
+            "Fz_amp",
+            "Fy_mean_coef",
+            "Fz_mean_coef",
+        ],
+    );
+    rows.iter()
+        .map(|v| Measured {
+            xi: v[0],
+            height: v[1] as usize,
+            h_over_lambda: v[2],
+            steepness: v[3],
+            fy: v[4],
+            fz: v[5],
+            drift_y: v[6],
+            drift_z: v[7],
         })
         .collect()
 }
@@ -113,39 +106,30 @@ struct MeasuredFloating {
 }
 
 fn floating_measurements() -> Vec<MeasuredFloating> {
-    let text = include_str!("../tests/data/sundsdal/scenario_B.csv");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
-    let index = [
-        "xi_B",
-        "height_index",
-        "h_over_lambda",
-        "Ka",
-        "sway_over_a",
-        "heave_over_a",
-        "roll_over_ka",
-        "drift_force_sway",
-    ]
-    .map(column);
-    lines
-        .map(|line| {
-            let cells: Vec<f64> = line
-                .split(',')
-                .map(|x| x.parse().unwrap_or(f64::NAN))
-                .collect();
-            let v = index.map(|i| cells[i]);
-            MeasuredFloating {
-                xi: v[0],
-                height: v[1] as usize,
-                h_over_lambda: v[2],
-                steepness: v[3],
-                sway: v[4],
-                heave: v[5],
-                roll: v[6],
-                // The rig's force on the model holds it against the wave: its size is the drift.
-                drift: v[7].abs(),
-            }
+    let rows = csv::columns(
+        include_str!("../tests/data/sundsdal/scenario_B.csv"),
+        [
+            "xi_B",
+            "height_index",
+            "h_over_lambda",
+            "Ka",
+            "sway_over_a",
+            "heave_over_a",
+            "roll_over_ka",
+            "drift_force_sway",
+        ],
+    );
+    rows.iter()
+        .map(|v| MeasuredFloating {
+            xi: v[0],
+            height: v[1] as usize,
+            h_over_lambda: v[2],
+            steepness: v[3],
+            sway: v[4],
+            heave: v[5],
+            roll: v[6],
+            // The rig's force on the model holds it against the wave: its size is the drift.
+            drift: v[7].abs(),
         })
         .collect()
 }

@@ -27,6 +27,8 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::time::Instant;
 
+#[path = "report/csv.rs"]
+mod csv;
 #[path = "report/mod.rs"]
 mod report;
 #[path = "report/section_motion.rs"]
@@ -140,32 +142,23 @@ struct FlumeRow {
 }
 
 fn flume() -> Vec<FlumeRow> {
-    let text = include_str!("../tests/data/sundsdal/scenario_B.csv");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
-    let index = [
-        "xi_B",
-        "height_index",
-        "a_mm",
-        "h_over_lambda",
-        "roll_over_ka",
-    ]
-    .map(column);
-    lines
-        .map(|line| {
-            let cells: Vec<f64> = line
-                .split(',')
-                .map(|x| x.parse().unwrap_or(f64::NAN))
-                .collect();
-            let v = index.map(|i| cells[i]);
-            FlumeRow {
-                xi: v[0],
-                height: v[1] as usize,
-                amplitude: v[2] / 1000.0,
-                h_over_lambda: v[3],
-                roll_over_ka: v[4],
-            }
+    let rows = csv::columns(
+        include_str!("../tests/data/sundsdal/scenario_B.csv"),
+        [
+            "xi_B",
+            "height_index",
+            "a_mm",
+            "h_over_lambda",
+            "roll_over_ka",
+        ],
+    );
+    rows.iter()
+        .map(|v| FlumeRow {
+            xi: v[0],
+            height: v[1] as usize,
+            amplitude: v[2] / 1000.0,
+            h_over_lambda: v[3],
+            roll_over_ka: v[4],
         })
         .collect()
 }
