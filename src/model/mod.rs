@@ -258,6 +258,9 @@ pub struct ModelState {
     /// Stop time of the run, if the master defined one: no step may end after it. Part of
     /// the state like the start time, so a restored state keeps the experiment it was saved in.
     pub stop_time: Option<f64>,
+    /// The current `[current.speed (m/s), current.heading (deg)]` of an FMU with viscous
+    /// damping (inputs, zero otherwise): a restored state sees the current it was saved with.
+    pub current: [f64; 2],
 }
 
 impl ModelState {
@@ -278,6 +281,7 @@ impl ModelState {
             waves: WaveParams::default(),
             start_time: 0.0,
             stop_time: None,
+            current: [0.0; 2],
         }
     }
 
@@ -657,6 +661,12 @@ impl Model {
             let scratch = s.scratch();
             (s, scratch)
         });
+        if let Some(viscous) = self.viscous.as_mut() {
+            // Checked finite by check_state.
+            viscous
+                .set_current(state.current[0], state.current[1])
+                .map_err(ModelError::State)?;
+        }
         self.state = state;
         self.outputs_valid = false;
         Ok(())

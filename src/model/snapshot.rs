@@ -6,7 +6,8 @@
 //! (f64 each), the wave parameters (kind, seed, components, height, period, heading, gamma, ramp:
 //! `write_waves`), the start time and the stop time (f64 each, +inf: none), `wave.drift`
 //! (i32; only in the states of an FMU packed with a drift table, so the bytes of every other
-//! FMU are unchanged), then an FNV-1a 64 checksum of everything before it.
+//! FMU are unchanged), `current.speed` and `current.heading` (f64 each; only in the states of
+//! an FMU packed with viscous damping), then an FNV-1a 64 checksum of everything before it.
 //!
 //! The bytes are untrusted input. Every size they decide is bounded before anything is
 //! allocated (the GUID at 1024 bytes, the vectors at this component's dimensions, which
@@ -20,8 +21,8 @@ use crate::waves::{DriftMode, WaveKind, WaveParams};
 use nalgebra::DVector;
 
 const MAGIC: &[u8; 8] = b"HYDROFMU";
-/// 3: the stop time after the start time.
-const FORMAT_VERSION: u32 = 3;
+/// 3: the stop time after the start time; 4: the current of an FMU with viscous damping.
+const FORMAT_VERSION: u32 = 4;
 
 /// The state bytes' checksum (FNV-1a 64).
 #[cfg(test)]
@@ -148,6 +149,11 @@ impl Model {
         if self.drift.is_some() {
             b.extend_from_slice(&s.waves.drift.code().to_le_bytes());
         }
+        if self.viscous.is_some() {
+            for x in s.current {
+                b.extend_from_slice(&x.to_le_bytes());
+            }
+        }
         let sum = fnv1a(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -158,12 +164,14 @@ impl Model {
         let n = self.dof_count();
         let ns = self.system.state_size();
         let drift = if self.drift.is_some() { 4 } else { 0 };
+        let current = if self.viscous.is_some() { 16 } else { 0 };
         HEADER_BYTES
             + self.guid.len()
             + FIXED_BYTES
             + 8 * (ns + 4 * n)
             + WAVE_AND_RUN_BYTES
             + drift
+            + current
             + 8
     }
 
@@ -230,10 +238,14 @@ impl Model {
             start_time: r.f64()?,
             // +inf: no stop time; anything else must pass the checks below.
             stop_time: Some(r.f64()?).filter(|t| *t != f64::INFINITY),
+            current: [0.0; 2],
         };
         if self.drift.is_some() {
             state.waves.drift = DriftMode::from_code(r.u32()? as i32)
                 .map_err(|e| ModelError::State(format!("wave parameters: {e}")))?;
+        }
+        if self.viscous.is_some() {
+            state.current = [r.f64()?, r.f64()?];
         }
         if r.at != body.len() {
             return Err(ModelError::State("trailing bytes".into()));

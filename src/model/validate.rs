@@ -63,6 +63,14 @@ impl Model {
         }
         self.check_times(state)?;
         self.check_inputs(state)?;
+        for (name, value) in ["current.speed", "current.heading"]
+            .iter()
+            .zip(state.current)
+        {
+            if !value.is_finite() {
+                return refuse(format!("{name} is {value}"));
+            }
+        }
         if let Some(i) = state.network.iter().position(|x| !x.is_finite()) {
             return refuse(format!(
                 "network state z[{}] is {}",

@@ -511,6 +511,7 @@ impl super::Model {
             Quantity::DampingQuadratic(i) if i < n => viscous.set_quadratic(i, value),
             other => Err(format!("{other:?} cannot be set")),
         };
+        self.state.current = [viscous.speed, viscous.heading];
         self.outputs_valid = false;
         result.map_err(super::ModelError::Variable)
     }

@@ -375,3 +375,35 @@ fn a_diagonal_linear_damping_gives_the_full_products_force() {
     coupled.force(&DVector::from_vec(vec![1.0, 1.0]), &mut a);
     assert_eq!(a[0], -(2.0 + 0.5) - 3.0);
 }
+
+#[test]
+fn a_saved_state_keeps_its_current() {
+    // The current is an input the state carries: restored by set_state and by the state bytes.
+    let mut m = damped();
+    m.set_value(Quantity::CurrentSpeed, 0.8).unwrap();
+    m.set_value(Quantity::CurrentHeading, 30.0).unwrap();
+    m.set_value(Quantity::Velocity(0), 0.1).unwrap();
+    let saved = m.state().clone();
+    let bytes = m.serialize(0);
+    assert_eq!(bytes.len(), m.serialized_size());
+    let force = m.value(Quantity::ForceViscous(0)).unwrap();
+    m.set_value(Quantity::CurrentSpeed, 0.0).unwrap();
+    assert_ne!(m.value(Quantity::ForceViscous(0)).unwrap(), force);
+    m.set_state(saved).unwrap();
+    assert_eq!(m.value(Quantity::CurrentSpeed).unwrap(), 0.8);
+    assert_eq!(m.value(Quantity::ForceViscous(0)).unwrap(), force);
+    let mut fresh = damped();
+    let (state, _) = fresh.deserialize(&bytes).unwrap();
+    fresh.set_state(state).unwrap();
+    assert_eq!(fresh.value(Quantity::CurrentHeading).unwrap(), 30.0);
+    assert_eq!(fresh.value(Quantity::ForceViscous(0)).unwrap(), force);
+    // A current that is not finite, checksum recomputed, is refused by name.
+    let mut bad = bytes.clone();
+    let at = bad.len() - 8 - 16;
+    bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+    let body = bad.len() - 8;
+    let sum = super::snapshot::checksum(&bad[..body]);
+    bad[body..].copy_from_slice(&sum.to_le_bytes());
+    let e = fresh.deserialize(&bad).unwrap_err().to_string();
+    assert!(e.contains("current.speed is NaN"), "{e}");
+}
