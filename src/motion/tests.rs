@@ -11,11 +11,10 @@ use crate::sweep::Solver;
 const RHO: f64 = 1025.0;
 const G: f64 = 9.81;
 
-/// The semicircle of radius 1 m floating freely: the displaced mass, G 0.2 m below the
-/// waterline (metacentric height 0.2 m), radius of gyration 0.3 m.
-fn free_semicircle() -> (Hull, Floating) {
-    let hull = Hull::semicircle(1.0).unwrap();
-    let statics = hydrostatics::stiffness(&hull).unwrap();
+/// `hull` (half-beam 1 m) floating freely: the displaced mass, G 0.2 m below the waterline,
+/// radius of gyration 0.3 m.
+fn floating_freely(hull: &Hull) -> Floating {
+    let statics = hydrostatics::stiffness(hull).unwrap();
     let properties = MassProperties {
         mass: RHO * statics.submerged_area,
         centre_of_gravity: [0.0, -0.2],
@@ -23,7 +22,13 @@ fn free_semicircle() -> (Hull, Floating) {
         stiffness: DMatrix::zeros(0, 0),
         damping: DMatrix::zeros(0, 0),
     };
-    let floating = Floating::new(&hull, &statics, &properties, RHO, G).unwrap();
+    Floating::new(hull, &statics, &properties, RHO, G).unwrap()
+}
+
+/// The semicircle of radius 1 m floating freely (metacentric height 0.2 m).
+fn free_semicircle() -> (Hull, Floating) {
+    let hull = Hull::semicircle(1.0).unwrap();
+    let floating = floating_freely(&hull);
     (hull, floating)
 }
 
@@ -358,16 +363,7 @@ fn viscous_roll_damping_is_added_at_every_frequency_and_lowers_the_roll() {
     assert_eq!(still.viscous_roll_damping(omega).unwrap(), Some(friction));
     assert_eq!(floating.viscous_roll_damping(omega).unwrap(), None);
     // A section without roll, and a refused amplitude, name the damping.
-    let heave = hull.select_dofs(&["sway", "heave"]).unwrap();
-    let statics = hydrostatics::stiffness(&heave).unwrap();
-    let properties = MassProperties {
-        mass: RHO * statics.submerged_area,
-        centre_of_gravity: [0.0, -0.2],
-        radius_of_gyration: 0.3,
-        stiffness: DMatrix::zeros(0, 0),
-        damping: DMatrix::zeros(0, 0),
-    };
-    let unrolled = Floating::new(&heave, &statics, &properties, RHO, G).unwrap();
+    let unrolled = floating_freely(&hull.select_dofs(&["sway", "heave"]).unwrap());
     let e = unrolled.with_viscous_roll(params, 0.1).unwrap_err();
     assert!(e.to_string().contains("needs a rigid roll DOF"), "{e}");
     let e = floating.with_viscous_roll(params, -0.1).unwrap_err();
