@@ -10,8 +10,8 @@
 //!
 //! ```text
 //! D_j = sum_waterlines |zeta_r|^2 n_j / (4 |n_x|)           zeta_r = Psi - X_y (relative elevation)
-//!     + int_S0 [ -|d Psi/ds|^2 / (4k) + k |X_n|^2 / 4       (velocity squared; dPsi/dn = k X_n)
-//!              + Re(X_s conj(d Psi/ds)) / 2                  (X . grad p: the pressure at the moved point)
+//!     + int_S0 [ -|d Psi/ds|^2 / (4k) - k |X_n|^2 / 4       (velocity squared; dPsi/dn = k X_n)
+//!              + Re(X_s conj(d Psi/ds)) / 2 + k |X_n|^2 / 2  (X . grad p: the pressure at the moved point)
 //!              + |theta|^2 (y - y_P) / 4 ] n_j ds            (second-order hydrostatics of the rotation)
 //!     + rigid terms of the row
 //! ```
@@ -250,6 +250,7 @@ pub(super) fn forms(
                 let (x_n, x_s, _) = &panels[l];
                 let tangential = &heading.tangential[l];
                 add_product(&mut q, -weight / (4.0 * k), tangential, tangential);
+                // -k/4 (velocity squared) + k/2 (X . grad p) of |X_n|^2.
                 let x_n = to_complex(x_n);
                 add_product(&mut q, 0.25 * k * weight, &x_n, &x_n);
                 add_product(&mut q, 0.5 * weight, &to_complex(x_s), tangential);
