@@ -274,13 +274,12 @@ impl Body {
         let drift = floating
             .sweep_drift(sweep)
             .map_err(|e| format!("the floating drift: {e}"))?;
+        // Every frequency has its drift: `sweep_drift` refuses a sweep without.
         let values: Vec<(f64, nalgebra::DMatrix<f64>)> = sweep
             .kr
             .iter()
-            .zip(&sweep.excitation)
             .zip(drift)
-            .filter(|((_, forces), _)| forces.drift.is_some())
-            .map(|((kr, _), d)| (*kr, d.select_rows(&rows)))
+            .map(|(kr, d)| (*kr, d.select_rows(&rows)))
             .collect();
         if values.is_empty() {
             return Err("the sweep has no drift force (no frequency solved with it)"
