@@ -19,7 +19,7 @@
 
 use fmu_pack::plot::{self, Figure, Scale, Style};
 use hydrofmu::hull::{DofKind, Hull, RigidKind};
-use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::sweep::{self, SweepParams, SweepResult};
 use hydrofmu::viscous::{
     eddy_making, roll_damping, BilgeKeels, Damping, RollDamping, RollDampingParams,
 };
@@ -425,15 +425,7 @@ fn resonance_section(out: &Output, section: &Section) -> String {
             .filter(|x| (0.5..=0.6).contains(x)),
     );
     kr.dedup();
-    let result = sweep::run(
-        &section.hull,
-        &SweepParams {
-            kr: kr.clone(),
-            ..SweepParams::default()
-        },
-        &|_, _| {},
-    )
-    .expect("sweep");
+    let result = sweep_at(&section.hull, kr.clone());
     let omega_of = |xi: f64| (xi * G / section.hull.reference_half_beam()).sqrt();
     // The FMU's coefficients: Ikeda's at the flume's resonance and the amplitude they give.
     let at = kr
@@ -493,19 +485,20 @@ fn resonance_section(out: &Output, section: &Section) -> String {
     doc
 }
 
+/// The default sweep of `hull` at `kr`.
+fn sweep_at(hull: &Hull, kr: Vec<f64>) -> SweepResult {
+    let params = SweepParams {
+        kr,
+        ..SweepParams::default()
+    };
+    sweep::run(hull, &params, &|_, _| {}).expect("sweep")
+}
+
 /// Roll per `k a` across the resonance in waves of 12 mm: potential flow, with the FMU's
 /// coefficients, and the flume's stored runs.
 fn resonance_figure(out: &Output, section: &Section, packed: Damping, rows: &[FlumeRow]) -> String {
     let kr: Vec<f64> = (0..=80).map(|i| 0.4 + 0.005 * i as f64).collect();
-    let result = sweep::run(
-        &section.hull,
-        &SweepParams {
-            kr,
-            ..SweepParams::default()
-        },
-        &|_, _| {},
-    )
-    .expect("sweep");
+    let result = sweep_at(&section.hull, kr);
     let (mut plain, mut viscous) = (Vec::new(), Vec::new());
     for (index, xi) in result.kr.iter().enumerate() {
         let ka = xi / result.reference_half_beam * OUR_RESONANCE_AMPLITUDE;
@@ -537,15 +530,7 @@ fn resonance_figure(out: &Output, section: &Section, packed: Damping, rows: &[Fl
 /// Where our roll per `k a` peaks without viscous damping, and its height (xi_B 0.45 .. 0.6).
 fn potential_flow_peak(section: &Section) -> (f64, f64) {
     let kr: Vec<f64> = (0..=60).map(|i| 0.45 + 0.0025 * i as f64).collect();
-    let result = sweep::run(
-        &section.hull,
-        &SweepParams {
-            kr,
-            ..SweepParams::default()
-        },
-        &|_, _| {},
-    )
-    .expect("sweep");
+    let result = sweep_at(&section.hull, kr);
     let properties = section
         .hull
         .mass()

@@ -426,7 +426,7 @@ impl FiniteDepthGreen {
 }
 
 /// Gauss-Legendre `(node, weight)` on `[-1, 1]` (Newton on the Legendre recurrence).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+pub(super) fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     (0..n)
         .map(|i| {
             let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();

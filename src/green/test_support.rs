@@ -1,38 +1,12 @@
 //! Shared by the tests of the Green function: adaptive Gauss-Legendre quadrature (the
 //! independent reference), the test surfaces and a CPU-time measurement.
 
+use super::finite_depth::gauss_legendre;
 use super::{FreeSurface, GreenFunction};
 use num_complex::Complex64;
-use std::f64::consts::PI;
 
 pub(super) fn c(re: f64, im: f64) -> Complex64 {
     Complex64::new(re, im)
-}
-
-/// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre recurrence).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 1.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for k in 2..=n {
-                    let kf = k as f64;
-                    let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            (x, 2.0 / ((1.0 - x * x) * dp * dp))
-        })
-        .collect()
 }
 
 /// Adaptive Gauss-Legendre (10 vs 20 points, bisection): the independent reference.
