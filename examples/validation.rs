@@ -79,6 +79,7 @@ fn run_sweep(
         extrapolation_levels: levels,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
         excitation: true,
+        ..SweepParams::default()
     };
     sweep::run(&case.hull, &params, &|_, _| {}).expect("sweep")
 }

@@ -38,7 +38,7 @@ use crate::bem::{
 use crate::green::FreeSurface;
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelError, PanelParams};
-use crate::units;
+use crate::units::{self, WaterDepth};
 use crate::xml::{format_number, Notation};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
@@ -133,6 +133,8 @@ pub struct SweepParams {
     /// per solve; their cost is within the run-to-run noise of the sweep time,
     /// docs/BENCHMARKS.md). Default true.
     pub excitation: bool,
+    /// Water depth. Default: [`WaterDepth::Infinite`].
+    pub depth: WaterDepth,
 }
 
 impl Default for SweepParams {
@@ -144,6 +146,7 @@ impl Default for SweepParams {
             extrapolation_levels: 3,
             threads: 2,
             excitation: true,
+            depth: WaterDepth::Infinite,
         }
     }
 }
@@ -178,6 +181,12 @@ impl SweepParams {
         }
         if self.kr.is_empty() {
             return Err(SweepError::NoFrequencies);
+        }
+        if !self.depth.is_infinite() {
+            return Err(SweepError::Depth {
+                depth: self.depth,
+                reason: "the section sweep solves deep water only in this version".to_string(),
+            });
         }
         if let Some(bad) = self.kr.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
             return Err(SweepError::Frequency(*bad));

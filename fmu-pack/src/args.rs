@@ -124,6 +124,7 @@ impl HullSweepArgs {
                 .unwrap_or(SweepParams::default().extrapolation_levels),
             threads: self.threads,
             excitation: true,
+            ..SweepParams::default()
         };
         Ok((hull, params))
     }

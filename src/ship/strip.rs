@@ -408,6 +408,7 @@ pub fn run(
             extrapolation_levels: params.levels_for(hull),
             threads: params.threads,
             excitation: true,
+            depth: crate::units::WaterDepth::Infinite,
         };
         as_section.validate(hull).map_err(section_error(k))?;
     }

@@ -4,6 +4,7 @@ use super::{readable, SizeLimit};
 use crate::bem::{describe_surface, BemError};
 use crate::green::FreeSurface;
 use crate::panels::PanelError;
+use crate::units::WaterDepth;
 use std::fmt;
 
 /// A sweep that cannot start.
@@ -59,6 +60,13 @@ pub enum SweepError {
     },
     /// The grid has no frequency.
     NoFrequencies,
+    /// The water depth cannot serve this sweep.
+    Depth {
+        /// The depth asked for.
+        depth: WaterDepth,
+        /// Why not.
+        reason: String,
+    },
     /// A value computed once for the whole sweep is not finite after its normalization.
     NonFinite {
         /// What: `A_inf`, `A(0)` or the long-wave exciting force.
@@ -94,6 +102,7 @@ impl fmt::Display for SweepError {
                 readable(*bad)
             ),
             SweepError::NoFrequencies => f.write_str("the kR grid has no frequency"),
+            SweepError::Depth { depth, reason } => write!(f, "water depth {depth}: {reason}"),
             SweepError::TooLarge { limit, requested } => write!(
                 f,
                 "{requested} {} requested; at most {} ({})",
