@@ -78,6 +78,8 @@ pub struct PackSummary {
     pub osp: Option<PathBuf>,
     /// The viscous damping packed and where it comes from, one line each.
     pub viscous: Vec<String>,
+    /// The water depth the packed tables were computed for (the FMU's `depth`).
+    pub depth: hydrofmu::units::WaterDepth,
 }
 
 /// A network computed for the archive: the pipeline's products and the scene report.
@@ -104,6 +106,7 @@ impl fmt::Display for PackSummary {
                 "outside (add added_mass_inf to the hull's mass)"
             }
         )?;
+        write!(f, "\n  water depth      {}", self.depth)?;
         if let Some(osp) = &self.osp {
             write!(f, "\n  OSP description  {}", osp.display())?;
         }
@@ -216,6 +219,7 @@ pub fn pack_documented(
     archive.keep_inf_mass = keep_inf_mass;
     archive.fmi = fmi.into();
     archive.scene = documentation;
+    let depth = archive.depth()?;
     let packed = archive.build()?;
     // The archive and the OSP description beside it are written together, or neither.
     let mut outputs = crate::output::Outputs::new();
@@ -236,6 +240,7 @@ pub fn pack_documented(
         keep_inf_mass,
         osp,
         viscous: Vec::new(),
+        depth,
         scene: packed.scene,
         fit: None,
     })

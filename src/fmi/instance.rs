@@ -569,6 +569,7 @@ impl Instance {
                     | Quantity::CurrentHeading => {
                         crate::model::viscous::check_value(q, *x, before_init)?
                     }
+                    Quantity::Depth => inst.model.check_depth(*x).map_err(|e| e.to_string())?,
                     Quantity::Velocity(_) | Quantity::Acceleration(_) => {
                         // Checked before anything is set: a refused call changes nothing.
                         if !crate::model::acceptable(*x) {

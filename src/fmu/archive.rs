@@ -494,6 +494,14 @@ impl Archive {
         }
     }
 
+    /// The water depth of the packed tables ([`resources_depth`]).
+    pub fn depth(&self) -> Result<crate::units::WaterDepth, ArchiveError> {
+        let resources = Resources::with_options(String::new(), None, false)
+            .with_excitation(self.body.excitation_csv.clone())
+            .with_drift(self.body.drift_csv.clone());
+        resources_depth(&resources)
+    }
+
     /// The archive's bytes, after checking that its resources instantiate.
     pub fn build(&self) -> Result<Packed, ArchiveError> {
         let body = &self.body;
@@ -537,6 +545,9 @@ impl Archive {
             layout = layout
                 .with_viscous(&linear, &quadratic)
                 .map_err(|e| e.to_string())?;
+        }
+        if let crate::units::WaterDepth::Finite(depth) = resources_depth(&resources)? {
+            layout = layout.with_depth(depth).map_err(|e| e.to_string())?;
         }
         let system = model.system();
         let model_name = format!("hydrofmu {}", body.name);
@@ -756,3 +767,27 @@ Conventions: {axes}; force = force on the hull by the water.</p>
 mod drift_tests;
 #[cfg(test)]
 mod tests;
+
+/// The water depth of the resources' excitation and drift tables: one depth for both, else an
+/// error naming both files.
+fn resources_depth(resources: &Resources) -> Result<crate::units::WaterDepth, ArchiveError> {
+    let excitation_name = format!("resources/{}", Resources::EXCITATION_FILE);
+    let drift_name = format!("resources/{}", Resources::DRIFT_FILE);
+    let excitation = match &resources.excitation_csv {
+        Some(text) => Some(
+            crate::waves::ExcitationTable::from_csv_str(text, &excitation_name)
+                .map_err(|e| e.to_string())?,
+        ),
+        None => None,
+    };
+    let drift = match &resources.drift_csv {
+        Some(text) => Some(
+            crate::waves::DriftTable::from_csv_str(text, &drift_name).map_err(|e| e.to_string())?,
+        ),
+        None => None,
+    };
+    Ok(crate::model::tables_depth(
+        excitation.as_ref().map(|t| (t, excitation_name.as_str())),
+        drift.as_ref().map(|t| (t, drift_name.as_str())),
+    )?)
+}

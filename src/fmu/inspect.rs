@@ -36,6 +36,8 @@ pub struct Inspection {
     /// Packed with viscous damping (`resources/viscous.csv`: `damping_linear`,
     /// `damping_quadratic`, `current.speed`, `current.heading`, `force_viscous.<dof>`).
     pub viscous: bool,
+    /// The water depth the tables were computed for (`depth`; deep water without one).
+    pub depth: crate::units::WaterDepth,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -72,6 +74,14 @@ impl fmt::Display for Inspection {
                 "outside"
             }
         )?;
+        match self.depth {
+            crate::units::WaterDepth::Finite(h) => {
+                writeln!(f, "water depth       {h} m (the fixed parameter depth)")?
+            }
+            crate::units::WaterDepth::Infinite => {
+                writeln!(f, "water depth       infinite (deep water)")?
+            }
+        }
         if self.drift {
             writeln!(
                 f,
@@ -192,6 +202,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         keep_inf_mass: resources.keep_inf_mass,
         drift: resources.drift_csv.is_some(),
         viscous: resources.viscous_csv.is_some(),
+        depth: model.depth(),
         entries,
         scene,
     };

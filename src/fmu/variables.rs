@@ -213,6 +213,9 @@ pub enum Quantity {
     DampingLinear(usize, usize),
     /// Quadratic viscous damping of a DOF (parameter; only with viscous damping).
     DampingQuadratic(usize),
+    /// Water depth the tables were computed for (fixed parameter, m; only in finite depth:
+    /// [`Layout::with_depth`]).
+    Depth,
 }
 
 /// FMI causality.
@@ -282,7 +285,13 @@ pub struct Layout {
     pub(super) drift: bool,
     /// The viscous damping and current variables exist ([`Layout::with_viscous`]).
     pub(super) viscous: bool,
+    /// The finite water depth (m) of `depth` ([`Layout::with_depth`]).
+    pub(super) depth: Option<f64>,
 }
+
+/// Value reference of `depth` ([`Layout::with_depth`]): in the range reserved for the fixed
+/// parameters, so that no per-hull reference depends on it.
+pub const VR_DEPTH: u32 = 98;
 
 /// The codes `wave.drift` accepts (declared min and max).
 pub const DRIFT_CODES: (i32, i32) = (0, 2);
@@ -361,6 +370,7 @@ impl Layout {
             variables: Vec::new(),
             drift: false,
             viscous: false,
+            depth: None,
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
@@ -608,6 +618,42 @@ impl Layout {
         Ok(self)
     }
 
+    /// This layout with the fixed parameter `depth` (m, start `depth`: the finite water depth
+    /// the tables were computed for), declared after all the others with value reference
+    /// [`VR_DEPTH`]. Deep water declares no `depth`.
+    ///
+    /// # Errors
+    /// A depth that is not finite and > 0.
+    pub fn with_depth(mut self, depth: f64) -> Result<Layout, VariablesError> {
+        if !(depth.is_finite() && depth > 0.0) {
+            return Err(VariablesError::Xml(format!(
+                "depth = {depth}: a declared water depth is finite and > 0"
+            )));
+        }
+        if self.depth.is_some() {
+            return Ok(self);
+        }
+        self.depth = Some(depth);
+        self.variables.push(Variable {
+            name: "depth".into(),
+            value_reference: VR_DEPTH,
+            quantity: Quantity::Depth,
+            causality: Causality::Parameter,
+            unit: "m",
+            description: "Water depth the tables were computed for (fixed: only this value \
+                          is accepted; docs/WAVES.md)"
+                .into(),
+            start: Some(depth),
+            integer: false,
+        });
+        Ok(self)
+    }
+
+    /// The finite water depth `depth` declares (m), `None` in deep water.
+    pub fn depth(&self) -> Option<f64> {
+        self.depth
+    }
+
     /// Whether the drift variables exist ([`Layout::with_drift`]).
     pub fn has_drift(&self) -> bool {
         self.drift
@@ -644,6 +690,7 @@ impl Layout {
         let n = self.dofs.len();
         let base = FIRST_PER_HULL_REFERENCE as usize;
         let offset = match quantity {
+            Quantity::Depth => return self.depth.map(|_| VR_DEPTH),
             Quantity::Rho => return Some(VR_RHO),
             Quantity::G => return Some(VR_G),
             Quantity::Wave(WaveParameter::Drift) if self.drift => drift_base(n) + n,
@@ -675,6 +722,9 @@ impl Layout {
 
     /// What the value reference refers to (constant time).
     pub fn quantity(&self, value_reference: u32) -> Option<Quantity> {
+        if value_reference == VR_DEPTH && self.depth.is_some() {
+            return Some(Quantity::Depth);
+        }
         if value_reference < FIRST_PER_HULL_REFERENCE {
             return fixed_quantity(value_reference);
         }

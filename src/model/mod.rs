@@ -41,6 +41,8 @@
 //! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
 #[cfg(test)]
+mod depth_tests;
+#[cfg(test)]
 pub(crate) mod drift_tests;
 mod outputs;
 mod snapshot;
@@ -68,6 +70,7 @@ use crate::fmu::variables::{Layout, Quantity, WaveParameter};
 use crate::hull::Hull;
 use crate::hydrostatics;
 use crate::network::{Network, NetworkError};
+use crate::units::WaterDepth;
 use crate::waves::{DriftMode, DriftTable, ExcitationTable, Sea, SeaScratch, WaveKind, WaveParams};
 use nalgebra::DMatrix;
 use nalgebra::DVector;
@@ -89,6 +92,29 @@ pub(crate) fn drift_table(text: &str, names: &[String]) -> Result<DriftTable, Mo
         )));
     }
     Ok(table)
+}
+
+/// The water depth of the FMU's tables: the excitation table's, which the drift table (when
+/// both exist) must share; deep water without tables. `excitation` and `drift` are the
+/// tables with their names.
+///
+/// # Errors
+/// Tables for different depths, naming both files and both depths.
+pub(crate) fn tables_depth(
+    excitation: Option<(&ExcitationTable, &str)>,
+    drift: Option<(&DriftTable, &str)>,
+) -> Result<WaterDepth, String> {
+    match (excitation, drift) {
+        (Some((x, x_name)), Some((d, d_name))) if x.depth() != d.depth() => Err(format!(
+            "{x_name} is for water depth {} but {d_name} for {}: the tables packed together \
+             must be computed for one depth",
+            x.depth(),
+            d.depth()
+        )),
+        (Some((x, _)), _) => Ok(x.depth()),
+        (None, Some((d, _))) => Ok(d.depth()),
+        (None, None) => Ok(WaterDepth::Infinite),
+    }
 }
 
 /// Why `wave.drift` = `mode` is refused without a drift table.
@@ -324,6 +350,8 @@ pub struct Model {
     /// Whether [`Model::start_waves`] ran (initialization ended): restored states then get
     /// their sea.
     waves_started: bool,
+    /// The water depth the tables were computed for (`depth`; deep water without tables).
+    depth: WaterDepth,
 }
 
 impl Model {
@@ -354,6 +382,7 @@ impl Model {
             hydrostatics_per_rho_g: None,
             sea: None,
             waves_started: false,
+            depth: WaterDepth::Infinite,
         };
         model.refresh();
         Ok(model)
@@ -391,6 +420,16 @@ impl Model {
         if let Some(text) = &resources.drift_csv {
             model.drift = Some(drift_table(text, &names)?);
         }
+        let excitation_name = format!("resources/{}", Resources::EXCITATION_FILE);
+        let drift_name = format!("resources/{}", Resources::DRIFT_FILE);
+        model.depth = tables_depth(
+            model
+                .excitation
+                .as_ref()
+                .map(|t| (t, excitation_name.as_str())),
+            model.drift.as_ref().map(|t| (t, drift_name.as_str())),
+        )
+        .map_err(ModelError::Waves)?;
         if let Some(text) = &resources.viscous_csv {
             let (frame, linear, quadratic) =
                 viscous::parse_csv(text, &names).map_err(ModelError::Variable)?;
@@ -572,7 +611,30 @@ impl Model {
         if let Some(v) = &self.viscous {
             layout = layout.with_viscous(&v.linear, &v.quadratic)?;
         }
+        if let WaterDepth::Finite(depth) = self.depth {
+            layout = layout.with_depth(depth)?;
+        }
         Ok(layout)
+    }
+
+    /// The water depth the tables were computed for (the fixed parameter `depth`).
+    pub fn depth(&self) -> WaterDepth {
+        self.depth
+    }
+
+    /// Whether `depth` may be set to `value`: only the packed depth is accepted (the tables
+    /// were computed for it).
+    pub fn check_depth(&self, value: f64) -> Result<(), ModelError> {
+        match self.depth {
+            WaterDepth::Finite(depth) if value == depth => Ok(()),
+            WaterDepth::Finite(depth) => Err(ModelError::Variable(format!(
+                "depth = {value} m refused: the FMU's tables were computed for depth = {depth} m \
+                 (a fixed parameter: pack the FMU again with --water-depth for another depth)"
+            ))),
+            WaterDepth::Infinite => Err(ModelError::Variable(
+                "depth: this FMU is for deep water and declares no depth".into(),
+            )),
+        }
     }
 
     /// The FMU variable name of `quantity` (`force.heave`, `added_mass_inf[1,2]`, ...), for
@@ -851,6 +913,7 @@ impl Model {
         match quantity {
             Quantity::Rho => self.set_parameters(value, self.state.g)?,
             Quantity::G => self.set_parameters(self.state.rho, value)?,
+            Quantity::Depth => return self.check_depth(value),
             Quantity::Velocity(i) if i < n => {
                 if !acceptable(value) {
                     return Err(refuse("velocity", i));

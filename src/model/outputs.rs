@@ -137,6 +137,7 @@ impl Model {
         let v = match quantity {
             Quantity::Rho => self.state.rho,
             Quantity::G => self.state.g,
+            Quantity::Depth => self.depth().metres(),
             Quantity::Wave(p) => self.wave_parameter(p),
             Quantity::Velocity(i) if i < n => self.state.velocity[i],
             Quantity::Acceleration(i) if i < n && self.system.keep_inf_mass => {

@@ -6,6 +6,7 @@
 //! # convention: exp(+i omega t)         (required, exactly)
 //! # R: 1 m                              (required: the reference radius)
 //! # length exponents: 0 0 1 ...         (required: e_j per mode)
+//! # depth: inf                         (optional: h/R, or `inf`; absent: deep water)
 //! kR,j,heading,value
 //! ```
 //!
@@ -20,6 +21,7 @@
 
 use super::table::Grid;
 use super::WaveError;
+use crate::units::WaterDepth;
 
 /// The drift force the FMU adds (`wave.drift`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -78,6 +80,7 @@ pub struct DriftTable {
     headings: Vec<f64>,
     /// `[(heading * modes + j) * kr.len() + k]`.
     values: Vec<f64>,
+    depth: WaterDepth,
 }
 
 impl DriftTable {
@@ -114,7 +117,13 @@ impl DriftTable {
             kr,
             headings: grid.headings,
             values,
+            depth: grid.depth,
         })
+    }
+
+    /// The water depth the table is for (`# depth:`; deep water without that line).
+    pub fn depth(&self) -> WaterDepth {
+        self.depth
     }
 
     /// The hull's name from the `# hull:` line, when present.

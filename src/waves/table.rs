@@ -6,6 +6,7 @@
 //! # convention: exp(+i omega t)         (required, exactly)
 //! # R: 1 m                              (required: the reference radius)
 //! # length exponents: 0 0 1 ...         (required: e_j per mode)
+//! # depth: inf                         (optional: h/R, or `inf`; absent: deep water)
 //! # hull: ..., # H/R: ..., other '#' lines: kept (hull) or ignored
 //! kR,j,heading,re,im
 //! ```
@@ -22,6 +23,7 @@
 //! the band, linear in `kR` towards the `kR = 0` rows when the table has them.
 
 use super::WaveError;
+use crate::units::WaterDepth;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use std::io::Write;
@@ -85,6 +87,7 @@ pub struct ExcitationTable {
     headings: Vec<f64>,
     /// `[(heading * modes + j) * kr.len() + k]`.
     values: Vec<Complex64>,
+    depth: WaterDepth,
 }
 
 struct Row {
@@ -113,7 +116,13 @@ impl ExcitationTable {
             kr: grid.kr,
             headings: grid.headings,
             values: grid.values,
+            depth: grid.depth,
         })
+    }
+
+    /// The water depth the table is for (`# depth:`; deep water without that line).
+    pub fn depth(&self) -> WaterDepth {
+        self.depth
     }
 
     /// The hull's name from the `# hull:` line, when present.
@@ -264,6 +273,8 @@ pub(super) struct Grid {
     pub(super) headings: Vec<f64>,
     /// `[(heading * modes + j) * kr.len() + k]`.
     pub(super) values: Vec<Complex64>,
+    /// `# depth:` (deep water without that line).
+    pub(super) depth: WaterDepth,
 }
 
 impl Grid {
@@ -301,7 +312,9 @@ impl Grid {
                         format!("header line after the column line `{columns}`"),
                     ));
                 }
-                header.read(comment).map_err(|m| error(Some(line), m))?;
+                header
+                    .read(comment, line)
+                    .map_err(|m| error(Some(line), m))?;
                 continue;
             }
             if !columns_seen {
@@ -329,7 +342,16 @@ impl Grid {
                 format!("no column line `{columns}` (and so no data)"),
             ));
         }
-        Self::assemble(header, headings, rows, &error)
+        let depth = match &header.depth {
+            None => WaterDepth::Infinite,
+            Some((value, line)) => {
+                WaterDepth::from_table_value(value, header.radius.unwrap_or(f64::NAN))
+                    .map_err(|m| error(Some(*line), m))?
+            }
+        };
+        let mut grid = Self::assemble(header, headings, rows, &error)?;
+        grid.depth = depth;
+        Ok(grid)
     }
 
     fn assemble(
@@ -447,6 +469,7 @@ impl Grid {
             kr,
             headings,
             values,
+            depth: WaterDepth::Infinite,
         })
     }
 }
@@ -565,19 +588,26 @@ struct Header {
     radius: Option<f64>,
     length_exponents: Vec<i32>,
     exponents_seen: bool,
+    /// The `# depth:` value and its line.
+    depth: Option<(String, usize)>,
 }
 
 impl Header {
     fn is_key_line(&self, comment: &str) -> bool {
-        ["modes:", "convention:", "R:", "length exponents:"]
+        ["modes:", "convention:", "R:", "length exponents:", "depth:"]
             .iter()
             .any(|key| comment.trim_start().starts_with(key))
     }
 
-    /// Reads one comment line (without its '#').
-    fn read(&mut self, comment: &str) -> Result<(), String> {
+    /// Reads one comment line (without its '#'), line `line` of the text.
+    fn read(&mut self, comment: &str, line: usize) -> Result<(), String> {
         let comment = comment.trim();
-        if let Some(rest) = comment.strip_prefix("hull:") {
+        if let Some(rest) = comment.strip_prefix("depth:") {
+            if self.depth.is_some() {
+                return Err("repeated `# depth:` line".to_string());
+            }
+            self.depth = Some((rest.trim().to_string(), line));
+        } else if let Some(rest) = comment.strip_prefix("hull:") {
             if self.hull.is_some() {
                 return Err("repeated `# hull:` line".to_string());
             }
