@@ -109,8 +109,26 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
             "unexpected text: values go in attributes, e.g. <station x=\"10\">".to_string(),
         ));
     }
-    root.only_attributes(&["name", "units", "version"])
+    root.only_attributes(&["name", "units", "version", "depth"])
         .map_err(at)?;
+    let depth = match root.attribute("depth") {
+        None => crate::units::WaterDepth::Infinite,
+        Some(text) => text
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|h| h.is_finite() && *h > 0.0)
+            .map(crate::units::WaterDepth::Finite)
+            .ok_or_else(|| {
+                err(
+                    root.line,
+                    format!(
+                        "depth=\"{text}\": the water depth in metres must be a finite number \
+                         > 0 (leave it out for deep water)"
+                    ),
+                )
+            })?,
+    };
     let name = root.required("name").map_err(at)?;
     if !valid_hull_name(name) {
         return Err(err(
@@ -415,7 +433,7 @@ fn build(root: &Element, source: &str, folder: &Path) -> Result<Ship, ShipError>
         )
     })?;
     ship.girder_modes = girder_modes;
-    Ok(ship)
+    Ok(ship.with_depth(depth))
 }
 
 /// The structural data a station may carry, in the order of the reader's slots.

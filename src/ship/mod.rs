@@ -104,6 +104,8 @@ pub struct Ship {
     sections: Vec<Hull>,
     dofs: Vec<ShipDof>,
     girder_modes: Vec<(String, girder::GirderMode)>,
+    /// The water depth of the ship file's `depth` attribute (deep water without it).
+    depth: crate::units::WaterDepth,
 }
 
 impl Ship {
@@ -205,7 +207,20 @@ impl Ship {
             sections,
             dofs,
             girder_modes: Vec::new(),
+            depth: crate::units::WaterDepth::Infinite,
         })
+    }
+
+    /// The water depth the file gives (`<ship depth="H">`, m; deep water without it), the
+    /// default of [`ShipSweepParams::for_ship`].
+    pub fn depth(&self) -> crate::units::WaterDepth {
+        self.depth
+    }
+
+    /// This ship in water depth `depth`.
+    pub fn with_depth(mut self, depth: crate::units::WaterDepth) -> Ship {
+        self.depth = depth;
+        self
     }
 
     /// The girder modes computed from the stations' structural data (`<girder_modes>`), by
@@ -348,5 +363,7 @@ fn check_motions(
     Ok(())
 }
 
+#[cfg(test)]
+mod depth_tests;
 #[cfg(test)]
 mod tests;

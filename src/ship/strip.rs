@@ -19,6 +19,7 @@ use crate::hull::Hull;
 use crate::hydrostatics::{self, HydrostaticsError};
 use crate::panels::PanelParams;
 use crate::sweep::{log_grid, Solver, SweepError, SweepParams};
+use crate::units::WaterDepth;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -73,6 +74,18 @@ pub struct ShipSweepParams {
     /// Also the fixed ship's mean wave drift ([`super::drift`], `Database::drift`). Default
     /// false: it costs a second diffraction solve of every section at every frequency.
     pub drift: bool,
+    /// Water depth (the ship file's `depth`, `--water-depth`). Default deep water. Every
+    /// wavenumber of the strip integration solves `omega^2 = g k tanh(k h)`
+    /// ([`WaterDepth::wavenumber`]); each section is validated in it (one reaching the
+    /// bottom is refused).
+    pub depth: WaterDepth,
+}
+
+/// The incident wave's phase at station `x` (m) for wavenumber `k` (1/m, the depth's) and
+/// heading `heading` (deg): `e^{-i k x cos(heading)}`.
+pub(crate) fn wave_phase(k: f64, heading: f64, x: f64) -> Complex64 {
+    let along = k * heading.to_radians().cos();
+    Complex64::new(0.0, -along * x).exp()
 }
 
 impl ShipSweepParams {
@@ -126,6 +139,7 @@ impl ShipSweepParams {
             rho: 1025.0,
             g,
             drift: false,
+            depth: ship.depth(),
         }
     }
 }
@@ -355,6 +369,17 @@ pub fn run(
             "frequency {w} rad/s must be positive and finite"
         )));
     }
+    if let Some(w) = params
+        .omega
+        .iter()
+        .find(|w| params.depth.wavenumber(**w, params.g).is_err())
+    {
+        let e = params.depth.wavenumber(*w, params.g).unwrap_err();
+        return Err(bad(format!(
+            "frequency {w} rad/s in water depth {}: {e}",
+            params.depth
+        )));
+    }
     let solves = ship.sections().len().saturating_mul(params.omega.len());
     if solves > MAX_SECTION_SOLVES {
         return Err(bad(format!(
@@ -408,9 +433,16 @@ pub fn run(
             extrapolation_levels: params.levels_for(hull),
             threads: params.threads,
             excitation: true,
-            depth: crate::units::WaterDepth::Infinite,
+            depth: params.depth,
         };
         as_section.validate(hull).map_err(section_error(k))?;
+    }
+    // The sections' radiation and diffraction solves below are deep-water ones.
+    if let WaterDepth::Finite(h) = params.depth {
+        return Err(bad(format!(
+            "water depth {h} m: a ship's section solves are for deep water only in this \
+             version"
+        )));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(params.threads)
@@ -478,6 +510,7 @@ pub fn run(
             .par_iter()
             .map(|&(k, w)| -> Solved {
                 let omega = params.omega[w];
+                // Deep water: a finite depth is refused above.
                 let wavenumber = crate::units::wavenumber(omega, params.g);
                 let at = |e| format!("the section at x = {} m: {e}", first_x(k));
                 let solution = solvers[k]
@@ -585,17 +618,19 @@ pub fn run(
         };
         let added = integrate_complex(&shares, n, &|k| solved[k].added_mass.clone())
             * Complex64::new(rho, 0.0);
-        let k = crate::units::wavenumber(omega, g);
+        let k = params
+            .depth
+            .wavenumber(omega, g)
+            .map_err(|e| e.to_string())?;
         // Wave phase at each station for each heading: e^{-i k x cos(beta)}.
         let phases = |shares: &[Share]| -> Vec<Vec<Complex64>> {
             params
                 .headings
                 .iter()
                 .map(|heading| {
-                    let along = k * heading.to_radians().cos();
                     shares
                         .iter()
-                        .map(|s| Complex64::new(0.0, -along * s.x).exp())
+                        .map(|s| wave_phase(k, *heading, s.x))
                         .collect()
                 })
                 .collect()
@@ -665,7 +700,10 @@ pub fn run(
             continue;
         }
         if coarse.is_none() {
-            let k = crate::units::wavenumber(omega, g);
+            let k = params
+                .depth
+                .wavenumber(omega, g)
+                .map_err(|e| ShipSweepError::Parameters(e.to_string()))?;
             coarse = solvers.iter().find_map(|s| s.mesh().wavelength_warning(k));
         }
         result.omega.push(omega);
