@@ -9,6 +9,7 @@ use super::capytaine;
 use super::irregular::{self, SpikeParams};
 use super::wamit::{self, Source, WamitParams, WamitTexts};
 use super::{Database, DatabaseError};
+use crate::units::WaterDepth;
 use nalgebra::DMatrix;
 use std::path::{Path, PathBuf};
 
@@ -22,6 +23,10 @@ pub struct ImportParams {
     /// Take the first column's meaning from WAMIT's `NAME.cfg` beside the files when it
     /// declares one (`IPEROUT`), over [`WamitParams::frequency_column`]. Default true.
     pub read_cfg: bool,
+    /// The water depth the user gives (`--water-depth`): the depth of WAMIT files, which do
+    /// not state it (deep water without it); a Capytaine dataset's own `water_depth` must
+    /// agree with it. Default `None`.
+    pub depth: Option<WaterDepth>,
 }
 
 impl Default for ImportParams {
@@ -37,6 +42,7 @@ impl ImportParams {
             wamit: WamitParams::default(),
             spikes: Some(SpikeParams::default()),
             read_cfg: true,
+            depth: None,
         }
     }
 }
@@ -143,6 +149,12 @@ pub fn import(path: &Path, params: &ImportParams) -> Result<Database, DatabaseEr
     let imported = wamit::read(&stem, texts, &wamit_params)?;
     let mut database = imported.database;
     database.notes.extend(cfg_note);
+    if let Some(depth) = params.depth {
+        database.depth = depth;
+        database.notes.push(format!(
+            "water depth {depth} (given: WAMIT files do not state it)"
+        ));
+    }
     // The mean drift beside it: NAME.8 (momentum) and NAME.9 (pressure).
     let drift_files: Vec<(String, String)> = ["8", "9"]
         .iter()
@@ -200,6 +212,18 @@ fn import_netcdf(path: &Path, params: &ImportParams) -> Result<Database, Databas
         .unwrap_or_else(|| "body".to_string());
     let imported = capytaine::read(&stem, bytes, &name, &params.wamit)?;
     let mut database = imported.database;
+    if let Some(given) = params.depth {
+        if given != database.depth {
+            return Err(DatabaseError::file(
+                &name,
+                format!(
+                    "the dataset's water_depth is {} but the depth given is {given}: the \
+                     coefficients are for the dataset's depth",
+                    database.depth
+                ),
+            ));
+        }
+    }
     finish(&mut database, imported.added_mass_inf_given, params)?;
     database.source = format!("imported from a Capytaine dataset ({})", file_name(path));
     Ok(database)

@@ -19,6 +19,7 @@ pub mod section;
 pub mod wamit;
 
 use crate::fmu::DofUnit;
+use crate::units::WaterDepth;
 use crate::xml::{format_number, Notation};
 use nalgebra::DMatrix;
 use num_complex::Complex64;
@@ -80,6 +81,10 @@ pub struct Database {
     pub drift: Vec<DMatrix<f64>>,
     /// The headings of [`Database::drift`]'s columns, degrees.
     pub drift_headings: Vec<f64>,
+    /// The water depth the coefficients are for (deep water unless the source says otherwise:
+    /// a Capytaine dataset's `water_depth`, a ship's depth, `--water-depth` for WAMIT files).
+    /// Every table written states it (`# depth:`).
+    pub depth: WaterDepth,
 }
 
 /// Most wave headings of one database (the FMU's excitation table's limit).
@@ -254,6 +259,11 @@ impl Database {
             .map(|u| u.length_exponent.to_string())
             .collect();
         writeln!(out, "# length exponents: {}", exponents.join(" "))?;
+        writeln!(
+            out,
+            "# depth: {}",
+            self.depth.table_value(self.reference_length)
+        )?;
         writeln!(out, "# values: {values}; whole body, {}", self.source)
     }
 
@@ -263,7 +273,11 @@ impl Database {
         writeln!(out, "# convention: exp(+i omega t)")?;
         writeln!(out, "# units: SI")?;
         writeln!(out, "# rho: {} kg/m^3", readable(self.rho))?;
-        writeln!(out, "# g: {} m/s^2", readable(self.g))
+        writeln!(out, "# g: {} m/s^2", readable(self.g))?;
+        match self.depth {
+            WaterDepth::Infinite => writeln!(out, "# depth: inf"),
+            WaterDepth::Finite(h) => writeln!(out, "# depth: {} m", readable(h)),
+        }
     }
 
     /// The added-mass table of docs/DESIGN.md ("Ships"): `omega,i,j,re,im`, `omega = inf` rows

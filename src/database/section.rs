@@ -251,6 +251,7 @@ impl SectionDatabase {
             body_panels: vec![sweep.panel_counts.0],
             drift: Vec::new(),
             drift_headings: Vec::new(),
+            depth: crate::units::WaterDepth::Infinite,
         };
         // The fixed section's mean drift, when every frequency has it (headings 0 and 180).
         let drifts: Option<Vec<DMatrix<f64>>> = sweep
@@ -455,6 +456,42 @@ mod tests {
             .iter()
             .any(|c| *c != 0.0));
         assert_eq!(section.database.excitation.len(), 2);
+    }
+
+    #[test]
+    fn a_databases_depth_goes_into_every_table_and_the_dataset() {
+        use crate::units::WaterDepth;
+        let (mut section, _) = exported(&Hull::semicircle(2.0).unwrap());
+        let header = |database: &Database| {
+            let mut tables: [Vec<u8>; 3] = Default::default();
+            database.write_excitation_table(&mut tables[0]).unwrap();
+            database.write_csv(&mut tables[1]).unwrap();
+            database.write_excitation_csv(&mut tables[2]).unwrap();
+            tables.map(|t| String::from_utf8(t).unwrap())
+        };
+        let deep = header(&section.database);
+        assert!(deep[0].contains("\n# depth: inf\n"));
+        assert!(deep[1].contains("\n# depth: inf\n") && deep[2].contains("\n# depth: inf\n"));
+        // h = 6 m: the FMU's table says h/R with its R (the section's 1 m slice: R = 1 m in
+        // SI, the table's R the database's reference length), the SI tables metres.
+        section.database.depth = WaterDepth::Finite(6.0);
+        let finite = header(&section.database);
+        let table = crate::waves::ExcitationTable::from_csv_str(&finite[0], "x.csv").unwrap();
+        assert_eq!(table.depth(), WaterDepth::Finite(6.0));
+        assert!(finite[1].contains("\n# depth: 6 m\n"));
+        // The Capytaine dataset's water_depth, read back.
+        let path = std::env::temp_dir().join(format!("hydrofmu-depth-{}.nc", std::process::id()));
+        section.write_netcdf(&path).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let params = crate::database::wamit::WamitParams::default();
+        let back = crate::database::capytaine::read("s", bytes, "s.nc", &params).unwrap();
+        assert_eq!(back.database.depth, WaterDepth::Finite(6.0));
+        assert!(back
+            .database
+            .notes
+            .iter()
+            .any(|n| n.contains("water depth 6 m")));
     }
 
     #[test]

@@ -32,6 +32,9 @@
 //! before the waves existed. An FMU packed with a drift table ([`Layout::with_drift`]) adds
 //! `force_drift` (in `force` too) and its switch `wave.drift` (0 none, 1 mean, 2 slow drift
 //! by Newman; [`DRIFT_CODES`]) after every other variable, so no value reference moves.
+//! An FMU whose tables are for a finite water depth ([`Layout::with_depth`]) declares the fixed
+//! parameter `depth` (m, start the tables' depth) last, with value reference [`VR_DEPTH`] (98,
+//! in the fixed parameters' reserved range 0..99); deep water declares none.
 //!
 //! Units follow each DOF's length exponent ([`crate::fmu::units`]).
 //! [`Layout::model_description`] ([`crate::fmu::description`]) writes the complete

@@ -585,6 +585,7 @@ pub fn run(
         body_panels: solvers.iter().map(|s| s.mesh().body.len()).collect(),
         drift: Vec::new(),
         drift_headings: Vec::new(),
+        depth: params.depth,
     };
     let count = params.omega.len();
     // The strip integrals of one frequency (`Err`: why there are none).

@@ -1,8 +1,11 @@
 //! Incident waves in the time domain: the elevation at x = 0 and the exciting force of every
 //! DOF, for calm water, a regular wave or a JONSWAP sea (`docs/WAVES.md`).
 //!
-//! Deep water, `k = omega^2 / g`, time factor `exp(+i omega t)`, heading 0 (waves towards +x)
-//! or 180 (towards -x), phase reference x = 0. A sea is a harmonic sum of components
+//! Time factor `exp(+i omega t)`, heading 0 (waves towards +x) or 180 (towards -x), phase
+//! reference x = 0. The water depth enters only through the tables (their `# depth:` line;
+//! [`ExcitationTable::depth`]): the elevation at x = 0 and the spectrum in omega do not involve
+//! the wavenumber, and the tables are read at `kR = omega^2 R / g` in any depth. A sea is a
+//! harmonic sum of components
 //! `(omega_n, a_n, eps_n)`:
 //!
 //! ```text

@@ -66,6 +66,7 @@ pub use writer::{write, write_with, Attribute, WriteError};
 use super::wamit::{self, FrequencyColumn, WamitParams};
 use super::{Database, DatabaseError};
 use crate::fmu::DofUnit;
+use crate::units::WaterDepth;
 use header::check_header;
 use nalgebra::DMatrix;
 use netcdf3::FileReader;
@@ -273,23 +274,26 @@ fn convert(
             "variable forward_speed = {speed} m/s: only zero-speed databases are read"
         )));
     }
-    if nc.has("water_depth") {
+    let depth = if nc.has("water_depth") {
         let depth = nc.scalar("water_depth", "the water depth")?;
-        if depth.is_nan() || depth <= 0.0 {
-            return Err(error(format!(
+        let depth = WaterDepth::new(depth).map_err(|_| {
+            error(format!(
                 "variable water_depth = {depth}: it must be > 0 (inf for deep water)"
-            )));
-        }
-        if depth.is_finite() {
+            ))
+        })?;
+        if let WaterDepth::Finite(h) = depth {
             notes.push(format!(
-                "{file}: finite water depth {depth} m (the coefficients are for that depth)"
+                "{file}: finite water depth {h} m (the coefficients are for that depth; the \
+                 FMU's parameter depth)"
             ));
         }
+        depth
     } else {
         notes.push(format!(
-            "{file}: no water_depth variable: the depth is unknown"
+            "{file}: no water_depth variable: the depth is unknown (taken as deep water)"
         ));
-    }
+        WaterDepth::Infinite
+    };
     let rho = params.rho;
     let g = params.g;
     let radiation_scale = rho / rho_file;
@@ -628,6 +632,7 @@ fn convert(
         body_panels: Vec::new(),
         drift: Vec::new(),
         drift_headings: Vec::new(),
+        depth,
     };
     Ok(ImportedCapytaine {
         database,

@@ -71,7 +71,7 @@ fn capytaine_name(name: &str) -> String {
 /// exciting force NaN there, as Capytaine's), `added_mass = Re A~`,
 /// `radiation_damping = -omega Im A~`, `excitation_force = conj(X)` (Capytaine's
 /// `exp(-i omega t)`), `wave_direction` in radians, `hydrostatic_stiffness`, `rho`, `g`,
-/// `forward_speed = 0`, `water_depth = inf`.
+/// `forward_speed = 0`, `water_depth` (m, `inf` for deep water: [`Database::depth`]).
 ///
 /// # Errors
 /// [`WriteError`]: the file cannot be written (its text names the file).
@@ -233,7 +233,7 @@ pub fn write_with(
         .write_var_f64("forward_speed", &[0.0])
         .map_err(fail)?;
     writer
-        .write_var_f64("water_depth", &[f64::INFINITY])
+        .write_var_f64("water_depth", &[database.depth.metres()])
         .map_err(fail)?;
     writer.write_var_f64("added_mass", &added).map_err(fail)?;
     writer

@@ -516,6 +516,8 @@ pub fn read(
         body_panels: Vec::new(),
         drift: Vec::new(),
         drift_headings: Vec::new(),
+        // WAMIT's files do not state the depth: deep unless the user says otherwise.
+        depth: crate::units::WaterDepth::Infinite,
     };
     if let Some(what) = database.first_non_finite() {
         return Err(DatabaseError::file(
