@@ -494,7 +494,7 @@ impl Archive {
         }
     }
 
-    /// The water depth of the packed tables ([`resources_depth`]).
+    /// The water depth of the packed tables: the excitation and drift tables must agree.
     pub fn depth(&self) -> Result<crate::units::WaterDepth, ArchiveError> {
         let resources = Resources::with_options(String::new(), None, false)
             .with_excitation(self.body.excitation_csv.clone())
