@@ -152,3 +152,52 @@ def test_the_tables_say_their_depth(ours):
     assert all(len(ours[depth]) == 8 for depth in DEPTHS)
     assert np.isfinite([v for table in ours.values() for pair in table.values()
                         for v in pair]).all()
+
+
+# The FMU of a section in finite depth: its fixed parameter `depth`.
+
+@pytest.fixture(scope="module")
+def finite_depth_fmu(fmu_pack_binary, tmp_path_factory):
+    out = tmp_path_factory.mktemp("finite-depth-fmu")
+    path = out / "shallow.fmu"
+    r = subprocess.run([str(fmu_pack_binary), "pack", "semicircle", "--dofs", "heave",
+                        "--water-depth", "3", "--kr", "0.05:5:40", "-o", str(path)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    return path, r.stdout
+
+
+def test_the_fmu_declares_its_depth_and_inspect_and_pack_say_it(fmu_pack_binary,
+                                                               finite_depth_fmu):
+    from fmpy import read_model_description
+    from fmpy.validation import validate_fmu
+
+    path, summary = finite_depth_fmu
+    assert "water depth      3 m" in summary, summary
+    assert validate_fmu(str(path)) == []
+    variables = read_model_description(str(path)).modelVariables
+    depth = variables[-1]
+    assert (depth.name, depth.valueReference, depth.causality) == ("depth", 98, "parameter")
+    assert float(depth.start) == 3.0
+    r = subprocess.run([str(fmu_pack_binary), "inspect", str(path)], capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr
+    assert "water depth       3 m" in r.stdout, r.stdout
+
+
+def test_a_master_may_set_depth_only_to_its_packed_value(finite_depth_fmu):
+    from fmpy import extract, read_model_description
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Slave
+
+    path, _ = finite_depth_fmu
+    md = read_model_description(str(path))
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(path)),
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="h")
+    slave.instantiate(loggingOn=False)
+    slave.setReal([98], [3.0])
+    assert slave.getReal([98]) == [3.0]
+    # Refused (fmi2Error: the message names depth, 5 m and the packed 3 m).
+    with pytest.raises(FMICallException):
+        slave.setReal([98], [5.0])
+    slave.freeInstance()
