@@ -213,6 +213,9 @@ pub enum Quantity {
     DampingLinear(usize, usize),
     /// Quadratic viscous damping of a DOF (parameter; only with viscous damping).
     DampingQuadratic(usize),
+    /// Scale of a ship's cross-flow strips (parameter; only with them:
+    /// [`Layout::with_crossflow`]).
+    CrossflowDragScale,
 }
 
 /// FMI causality.
@@ -282,6 +285,8 @@ pub struct Layout {
     pub(super) drift: bool,
     /// The viscous damping and current variables exist ([`Layout::with_viscous`]).
     pub(super) viscous: bool,
+    /// `crossflow.drag_scale` exists ([`Layout::with_crossflow`]).
+    pub(super) crossflow: bool,
 }
 
 /// The codes `wave.drift` accepts (declared min and max).
@@ -361,6 +366,7 @@ impl Layout {
             variables: Vec::new(),
             drift: false,
             viscous: false,
+            crossflow: false,
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
@@ -667,7 +673,7 @@ impl Layout {
                 waves_base(n) + 2 * n + 1 + i * n + j
             }
             Quantity::ForceDrift(i) if i < n && self.drift => drift_base(n) + i,
-            q if self.viscous => viscous::offset(q, n)?,
+            q if self.viscous => viscous::offset(q, n, self.crossflow)?,
             _ => return None,
         };
         u32::try_from(base + offset).ok()
@@ -713,7 +719,7 @@ impl Layout {
         } else if self.drift && k == drift_base(n) + n {
             Quantity::Wave(WaveParameter::Drift)
         } else if self.viscous {
-            return viscous::quantity(k, n);
+            return viscous::quantity(k, n, self.crossflow);
         } else {
             return None;
         };
