@@ -36,6 +36,9 @@ pub struct Inspection {
     /// Packed with viscous damping (`resources/viscous.csv`: `damping_linear`,
     /// `damping_quadratic`, `current.speed`, `current.heading`, `force_viscous.<dof>`).
     pub viscous: bool,
+    /// A ship's cross-flow strips (`resources/crossflow.csv`, `crossflow.drag_scale`): their
+    /// count, sway `C_D` range and lateral area.
+    pub crossflow: Option<String>,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -83,6 +86,9 @@ impl fmt::Display for Inspection {
                 f,
                 "viscous           damping_linear, damping_quadratic; current.speed, current.heading; force_viscous.<dof>"
             )?;
+        }
+        if let Some(strips) = &self.crossflow {
+            writeln!(f, "  cross-flow      {strips}; crossflow.drag_scale")?;
         }
         match &self.scene {
             Some(scene) => {
@@ -171,13 +177,18 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         &mut archive,
         &format!("resources/{}", Resources::VISCOUS_FILE),
     )?;
+    let crossflow = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::CROSSFLOW_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options)
         .map_err(|e| e.to_string())?
         .with_excitation(excitation)
         .with_hydrostatics(hydrostatics)
         .with_drift(drift)
-        .with_viscous(viscous);
+        .with_viscous(viscous)
+        .with_crossflow(crossflow);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
@@ -192,6 +203,10 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         keep_inf_mass: resources.keep_inf_mass,
         drift: resources.drift_csv.is_some(),
         viscous: resources.viscous_csv.is_some(),
+        crossflow: model
+            .viscous()
+            .and_then(|v| v.crossflow())
+            .map(|c| crate::model::crossflow::describe(c.strips())),
         entries,
         scene,
     };

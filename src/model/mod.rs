@@ -42,6 +42,8 @@
 
 pub mod crossflow;
 #[cfg(test)]
+mod crossflow_tests;
+#[cfg(test)]
 pub(crate) mod drift_tests;
 mod outputs;
 mod snapshot;
