@@ -389,3 +389,80 @@ fn strips_need_a_whole_body_with_viscous_damping() {
         .to_string();
     assert!(e.contains("need a whole body"), "{e}");
 }
+
+#[test]
+fn the_instance_declares_and_serves_the_drag_scale_and_the_coupled_derivatives() {
+    use crate::fmi::{Instance, Status};
+    use crate::fmu::description::{DescriptionInfo, FIXED_XML};
+    let strips = estimate().strips;
+    let text = viscous::write_csv(
+        &names(),
+        Frame::Body,
+        &DMatrix::zeros(4, 4),
+        &DVector::zeros(4),
+    );
+    let resources = Resources::new(SHIP_NETWORK.into(), None, Resources::options_text(false))
+        .unwrap()
+        .with_viscous(Some(text))
+        .with_crossflow(Some(write_csv(&strips)));
+    let layout = Model::from_resources(&resources).unwrap().layout().unwrap();
+    let vr = |q| layout.value_reference(q).unwrap();
+    let instance = || Instance::from_resources(c"ship", &resources, false).unwrap();
+    let scale = vr(Quantity::CrossflowDragScale);
+    let mut refused = instance();
+    assert_eq!(refused.set_real(&[scale], &[-0.5]), Status::Error);
+    let texts: Vec<_> = refused
+        .take_messages()
+        .into_iter()
+        .map(|m| m.text)
+        .collect();
+    assert!(
+        texts.iter().any(|t| t.contains("crossflow.drag_scale")),
+        "{texts:?}"
+    );
+    let mut inst = instance();
+    assert_eq!(inst.set_real(&[scale], &[0.5]), Status::Ok);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+    let (speed, heading) = (vr(Quantity::CurrentSpeed), vr(Quantity::CurrentHeading));
+    assert_eq!(inst.set_real(&[speed, heading], &[1.0, 90.0]), Status::Ok);
+    // At rest in a beam current of 1 m/s, v_y = -1 at every strip: dM_yaw/dv_sway =
+    // -2 rho s sum x c_y.
+    let mut dv = [0.0];
+    let status = inst.get_directional_derivative(
+        &[vr(Quantity::ForceViscous(YAW))],
+        &[vr(Quantity::Velocity(SWAY))],
+        &[1.0],
+        &mut dv,
+    );
+    assert_eq!(status, Status::Ok);
+    let moment: f64 = strips.iter().map(|s| s.x * s.lateral()).sum();
+    let expected = -2.0 * DEFAULT_RHO * 0.5 * moment;
+    assert!((dv[0] - expected).abs() < 1e-12 * expected.abs(), "{dv:?}");
+    // A fixed parameter: refused after initialization, naming it.
+    assert_eq!(inst.set_real(&[scale], &[1.0]), Status::Error);
+    let texts: Vec<_> = inst.take_messages().into_iter().map(|m| m.text).collect();
+    assert!(
+        texts.iter().any(|t| t.contains("fixed parameter")),
+        "{texts:?}"
+    );
+    // The description declares the parameter, unit 1, start 1, in both standards.
+    let info = DescriptionInfo {
+        model_identifier: "Ship".into(),
+        guid: "{ship}".into(),
+        ..Default::default()
+    };
+    for xml in [
+        layout.model_description(FIXED_XML, &info).unwrap(),
+        layout.model_description_fmi3(FIXED_XML, &info).unwrap(),
+    ] {
+        let at = xml.find("name=\"crossflow.drag_scale\"").unwrap();
+        let declaration = &xml[at..at + 400];
+        assert!(
+            declaration.contains("causality=\"parameter\""),
+            "{declaration}"
+        );
+        assert!(declaration.contains("start=\"1.0\""), "{declaration}");
+        assert!(declaration.contains("unit=\"1\""), "{declaration}");
+    }
+}
