@@ -8,7 +8,9 @@
 //! default network through the FMI 3.0 functions (fmi3SetFloat64, fmi3DoStep, fmi3GetFloat64).
 //! In calm water with viscous damping and a current (`resources/viscous.csv`: a diagonal
 //! linear and a quadratic damping in every DOF, `current.speed` 0.5 m/s; target <= 1 us, for
-//! the ratio to the calm step without them). The baseline of the same run: the plain dense step of the default network, no FMI around it
+//! the ratio to the calm step without them), and the same with a ship's 20 cross-flow strips
+//! (`resources/crossflow.csv`; the network's DOFs roll and cb1 named yaw and pitch, the current
+//! at 60 deg; target <= 1 us). The baseline of the same run: the plain dense step of the default network, no FMI around it
 //! (`x+ = Phi x + Gamma0 u + Gamma1 u'`, `y = C x+ + D u` with dense matrices, 9 velocities
 //! copied in and 9 forces out); the FMU step's cost is quoted as a ratio to it.
 //! The same radiation force by direct convolution: `cargo bench -p fmu-pack --bench
@@ -50,7 +52,8 @@ fn step(c: &mut Criterion) {
             "JONSWAP, 64 components, with slow drift",
         ],
     );
-    bench_viscous(c, NETWORK);
+    bench_viscous(c, NETWORK, 0);
+    bench_viscous(c, NETWORK, 20);
     bench_fmi3(c, NETWORK);
     bench_network(c, CHAINS, " (branch chains)", &["calm water"]);
 }
@@ -229,34 +232,60 @@ fn bench_network(c: &mut Criterion, text: &str, label: &str, seas: &[&str]) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The calm-water step of an FMU with viscous damping in every DOF and a current.
-fn bench_viscous(c: &mut Criterion, text: &str) {
+/// The calm-water step of an FMU with viscous damping in every DOF and a current, and with
+/// `strips` cross-flow strips of a ship (none: a section).
+fn bench_viscous(c: &mut Criterion, text: &str, strips: usize) {
     use hydrofmu::fmu::variables::Quantity;
     use hydrofmu::fmu::{DofUnit, Layout};
-    let (dir, _) = resources(text, "viscous");
+    use hydrofmu::model::crossflow::{write_csv, Strip};
+    use hydrofmu::model::viscous::Frame;
+    // A ship: two DOFs renamed yaw and pitch (the tables of the section then do not apply).
+    let text = match strips {
+        0 => text.to_string(),
+        _ => text
+            .replace("name=\"roll\"", "name=\"yaw\"")
+            .replace("name=\"cb1\"", "name=\"pitch\""),
+    };
+    let text = text.as_str();
+    let (dir, _) = resources(text, &format!("viscous-{strips}"));
     let network = Network::from_xml_str(text, "network.xml").unwrap();
     let names = network.dof_names.clone();
     let n = names.len();
     let linear = nalgebra::DMatrix::from_diagonal_element(n, n, 200.0);
     let quadratic = DVector::from_element(n, 1000.0);
-    let csv = hydrofmu::model::viscous::write_csv(
-        &names,
-        hydrofmu::model::viscous::Frame::Section,
-        &linear,
-        &quadratic,
-    );
+    let frame = match strips {
+        0 => Frame::Section,
+        _ => Frame::Body,
+    };
+    let csv = hydrofmu::model::viscous::write_csv(&names, frame, &linear, &quadratic);
     std::fs::write(dir.join(Resources::VISCOUS_FILE), csv).unwrap();
+    if strips > 0 {
+        std::fs::remove_file(dir.join(Resources::EXCITATION_FILE)).unwrap();
+        std::fs::remove_file(dir.join(Resources::DRIFT_FILE)).unwrap();
+        let strips: Vec<Strip> = (0..strips)
+            .map(|k| Strip {
+                x: -50.0 + 100.0 * k as f64 / (strips - 1) as f64,
+                weight: 5.0,
+                draft: 4.0 + 0.05 * k as f64,
+                breadth: 12.0,
+                cd_sway: 1.1,
+                cd_heave: 0.8,
+            })
+            .collect();
+        std::fs::write(dir.join(Resources::CROSSFLOW_FILE), write_csv(&strips)).unwrap();
+    }
     let guid = CString::new(Resources::read(&dir).unwrap().guid()).unwrap();
     let uri = CString::new(format!("file://{}", dir.display())).unwrap();
     let callbacks = silent_callbacks();
     let dofs = names.iter().map(|d| DofUnit::new(d, 0, false)).collect();
     let layout = Layout::new(dofs, false)
         .unwrap()
-        .with_drift()
-        .unwrap()
         .with_viscous(&linear, &quadratic)
         .unwrap();
-    let speed = [layout.value_reference(Quantity::CurrentSpeed).unwrap()];
+    let current = [
+        layout.value_reference(Quantity::CurrentSpeed).unwrap(),
+        layout.value_reference(Quantity::CurrentHeading).unwrap(),
+    ];
     let states = network.state_space().unwrap().state_count();
     let velocity: Vec<u32> = (0..n as u32)
         .map(|i| FIRST_PER_HULL_REFERENCE + i)
@@ -268,13 +297,22 @@ fn bench_viscous(c: &mut Criterion, text: &str) {
         let comp = instantiate(&guid, &uri, &callbacks);
         assert_eq!(fmi2EnterInitializationMode(comp), fmi2OK);
         assert_eq!(fmi2ExitInitializationMode(comp), fmi2OK);
-        assert_eq!(fmi2SetReal(comp, speed.as_ptr(), 1, &0.5), fmi2OK);
+        let (speed, heading) = (0.5, if strips > 0 { 60.0 } else { 0.0 });
+        assert_eq!(
+            fmi2SetReal(comp, current.as_ptr(), 2, [speed, heading].as_ptr()),
+            fmi2OK
+        );
         let h = 0.01;
         let (mut t, mut k) = (0.0, 0u64);
         let (mut v, mut f) = (vec![0.0; n], vec![0.0; n]);
-        let name = format!(
-            "doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states, calm water, viscous damping and current"
-        );
+        let name = match strips {
+            0 => format!(
+                "doStep + setReal(9) + getReal(9), semicircle 9 DOFs, {states} states, calm water, viscous damping and current"
+            ),
+            _ => format!(
+                "doStep + setReal(9) + getReal(9), 9 DOFs, {states} states, calm water, viscous damping, current and {strips} cross-flow strips"
+            ),
+        };
         c.bench_function(&name, |b| {
             b.iter(|| {
                 let phase = (k % 1000) as f64 * 1e-3;

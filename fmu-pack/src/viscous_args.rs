@@ -11,7 +11,9 @@
 //! `<mass>`, else `sqrt(g / R)`, R the half-beam) and `--roll-amplitude` (default 10 deg),
 //! quadratic `B_q` = eddy making + the keels' normal force; its sway and heave DOFs the
 //! cross-flow drag `B_q = 0.5 rho C_D T` (sway), `0.5 rho C_D B` (heave), at the reference
-//! rho. A ship: its sections' estimates integrated along its stations ([`ship_estimate`]).
+//! rho. A ship: its sections' roll estimates integrated along its stations
+//! ([`ship_estimate`]), and its cross-flow strips (`resources/crossflow.csv`, docs/CURRENT.md)
+//! for the drag of sway, heave, pitch and yaw, whose per-DOF `B_q` are then 0.
 //! Every other entry, an imported database's, and all with `--no-estimate`: 0.
 
 use clap::Args;
@@ -81,7 +83,12 @@ pub struct Estimate {
     pub names: Vec<String>,
     /// Source, inputs, values and validity warnings, one per line.
     pub lines: Vec<String>,
+    /// A ship's cross-flow strips (empty for a section).
+    pub strips: Vec<hydrofmu::model::crossflow::Strip>,
 }
+
+/// The DOFs whose drag a ship's cross-flow strips carry.
+const STRIP_DOFS: [&str; 4] = ["sway", "heave", "pitch", "yaw"];
 
 /// The frequency of the estimate's linear parts and where it comes from.
 fn roll_frequency(args: &ViscousArgs, hull: &Hull) -> Result<(f64, String), String> {
@@ -122,20 +129,37 @@ pub fn ship_estimate(args: &ViscousArgs, ship: &hydrofmu::ship::Ship) -> Result<
     let names: Vec<String> = ship.dof_names().iter().map(|d| d.to_string()).collect();
     let n = names.len();
     let (mut linear, mut quadratic) = (DMatrix::zeros(n, n), DVector::zeros(n));
+    let strips = match names.iter().any(|n| STRIP_DOFS.contains(&n.as_str())) {
+        true => estimate.strips,
+        false => Vec::new(),
+    };
     let mut lines = vec![format!(
         "ship: its sections' estimates integrated along the stations (docs/VISCOUS.md), roll at \
-         {omega:.4} rad/s ({source}) and {degrees} deg, drag as a section's; yaw and pitch \
-         B_q = int 0.5 rho C_D D |x|^3 dx"
+         {omega:.4} rad/s ({source}) and {degrees} deg, drag as a section's"
     )];
     for (name, damping) in &estimate.dofs {
         let Some(i) = names.iter().position(|d| d == name) else {
             continue;
         };
         linear[(i, i)] = damping.linear;
+        if STRIP_DOFS.contains(name) && !strips.is_empty() {
+            lines.push(format!(
+                "{name}: B_q 0, the strips' drag (alone: B_q {:.6e})",
+                damping.quadratic
+            ));
+            continue;
+        }
         quadratic[i] = damping.quadratic;
         lines.push(format!(
             "{name}: B_l {:.6e}, B_q {:.6e}",
             damping.linear, damping.quadratic
+        ));
+    }
+    if !strips.is_empty() {
+        lines.push(format!(
+            "cross-flow strips (resources/crossflow.csv; sway-yaw and heave-pitch coupled, the \
+             current's yaw moment; scaled by crossflow.drag_scale): {}",
+            hydrofmu::model::crossflow::describe(&strips)
         ));
     }
     let mut warned = std::collections::BTreeSet::new();
@@ -155,6 +179,7 @@ pub fn ship_estimate(args: &ViscousArgs, ship: &hydrofmu::ship::Ship) -> Result<
         coefficients: (linear, quadratic),
         names,
         lines,
+        strips,
     })
 }
 
@@ -251,6 +276,7 @@ pub fn section_estimate(args: &ViscousArgs, hull: &Hull) -> Result<Estimate, Str
         coefficients: (linear, quadratic),
         names,
         lines,
+        strips: Vec::new(),
     })
 }
 
@@ -389,14 +415,20 @@ impl ViscousArgs {
     }
 
     /// `body` with the viscous damping of these options (unchanged without --viscous), the
-    /// entries not given from `defaults`.
+    /// entries not given from `defaults`, and the defaults' cross-flow strips.
     pub fn apply(&self, body: Body, defaults: Option<&Estimate>) -> Result<Body, String> {
         let names: Vec<String> = body.dofs.iter().map(|d| d.name.clone()).collect();
-        match self.coefficients(&names, defaults)? {
-            Some((linear, quadratic)) => body
-                .with_viscous(linear, quadratic)
+        let Some((linear, quadratic)) = self.coefficients(&names, defaults)? else {
+            return Ok(body);
+        };
+        let body = body
+            .with_viscous(linear, quadratic)
+            .map_err(|e| format!("--viscous: {e}"))?;
+        match defaults {
+            Some(estimate) if !estimate.strips.is_empty() => body
+                .with_crossflow(&estimate.strips)
                 .map_err(|e| format!("--viscous: {e}")),
-            None => Ok(body),
+            _ => Ok(body),
         }
     }
 }

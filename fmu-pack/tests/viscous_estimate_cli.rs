@@ -268,8 +268,18 @@ fn a_ship_packs_its_sections_estimates_integrated_along_it() {
     let (roll, yaw, sway) = (row("roll"), row("yaw"), row("sway"));
     assert!(close(table[roll].1, get("roll").quadratic));
     assert!(close(table[roll].2[roll], get("roll").linear));
-    assert!(close(table[yaw].1, get("yaw").quadratic) && table[yaw].1 > 0.0);
-    // The entry given replaces the estimate.
+    // Yaw's drag is the cross-flow strips': its per-DOF coefficient is 0, and the strips
+    // with a yaw rate alone give the estimate's yaw coefficient.
+    assert_eq!(table[yaw].1, 0.0);
+    let text = common::archive_member(&archive, "resources/crossflow.csv").unwrap();
+    let strips = hydrofmu::model::crossflow::parse_csv(&text).unwrap();
+    assert_eq!(strips, estimate.strips);
+    let yaw_strips: f64 = strips
+        .iter()
+        .map(|s| 1025.0 * s.lateral() * s.x.abs().powi(3))
+        .sum();
+    assert!((yaw_strips - get("yaw").quadratic).abs() < 1e-12 * yaw_strips);
+    // The entry given is added to the strips.
     assert_eq!(table[sway].1, 1.0);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -566,7 +566,8 @@ impl Instance {
                     Quantity::DampingLinear(..)
                     | Quantity::DampingQuadratic(_)
                     | Quantity::CurrentSpeed
-                    | Quantity::CurrentHeading => {
+                    | Quantity::CurrentHeading
+                    | Quantity::CrossflowDragScale => {
                         crate::model::viscous::check_value(q, *x, before_init)?
                     }
                     Quantity::Depth => inst.model.check_depth(*x).map_err(|e| e.to_string())?,

@@ -13,6 +13,7 @@
 //! resources/hydrostatics.csv                  the restoring of a whole body
 //! resources/drift.csv                         the mean drift table, when packed with one
 //! resources/viscous.csv                       the viscous damping, when packed with it
+//! resources/crossflow.csv                     a ship's cross-flow strips, when packed with them
 //! documentation/index.html                    summary, coefficients, variables, reports
 //! documentation/plots/fit-<i>-<j>.svg         fit against data, when given
 //! documentation/scene.txt                     the scene or fit report, when given
@@ -156,6 +157,8 @@ pub struct Body {
     pub drift_csv: Option<String>,
     /// Viscous damping `(B_l, B_q)` in the body's DOF order ([`Body::with_viscous`]).
     pub viscous: Option<(DMatrix<f64>, DVector<f64>)>,
+    /// A ship's cross-flow strips, packed as `resources/crossflow.csv` ([`Body::with_crossflow`]).
+    pub crossflow_csv: Option<String>,
     /// A fit report for the documentation and `documentation/scene.txt` (a whole body).
     pub report: Option<String>,
 }
@@ -181,6 +184,7 @@ impl Body {
             excitation_csv: None,
             drift_csv: None,
             viscous: None,
+            crossflow_csv: None,
             report: None,
         }
     }
@@ -210,6 +214,7 @@ impl Body {
             excitation_csv,
             drift_csv: None,
             viscous: None,
+            crossflow_csv: None,
             report,
         })
     }
@@ -307,6 +312,22 @@ impl Body {
         let names: Vec<String> = self.dofs.iter().map(|d| d.name.clone()).collect();
         Viscous::new(&names, self.frame(), linear.clone(), quadratic.clone())?;
         self.viscous = Some((linear, quadratic));
+        Ok(self)
+    }
+
+    /// The whole body (with viscous damping, [`Body::with_viscous`] first) with a ship's
+    /// cross-flow strips (docs/CURRENT.md): the FMU adds their drag to `force_viscous` and
+    /// gets `crossflow.drag_scale`.
+    pub fn with_crossflow(
+        mut self,
+        strips: &[crate::model::crossflow::Strip],
+    ) -> Result<Body, ArchiveError> {
+        if self.viscous.is_none() || self.frame() != Frame::Body {
+            return Err("cross-flow strips need a whole body with viscous damping".into());
+        }
+        let text = crate::model::crossflow::write_csv(strips);
+        crate::model::crossflow::parse_csv(&text)?;
+        self.crossflow_csv = Some(text);
         Ok(self)
     }
 
@@ -511,7 +532,8 @@ impl Archive {
                 .with_excitation(body.excitation_csv.clone())
                 .with_hydrostatics(body.hydrostatics_csv.clone())
                 .with_drift(body.drift_csv.clone())
-                .with_viscous(body.viscous_csv(&self.network.network.dof_names)?);
+                .with_viscous(body.viscous_csv(&self.network.network.dof_names)?)
+                .with_crossflow(body.crossflow_csv.clone());
         // The GUID is that of the packed texts.
         let guid = resources.guid();
         let options = ModelOptions {
@@ -545,6 +567,9 @@ impl Archive {
             layout = layout
                 .with_viscous(&linear, &quadratic)
                 .map_err(|e| e.to_string())?;
+            if resources.crossflow_csv.is_some() {
+                layout = layout.with_crossflow().map_err(|e| e.to_string())?;
+            }
         }
         if let crate::units::WaterDepth::Finite(depth) = resources_depth(&resources)? {
             layout = layout.with_depth(depth).map_err(|e| e.to_string())?;
@@ -619,6 +644,7 @@ impl Archive {
             (Resources::HYDROSTATICS_FILE, &resources.hydrostatics_csv),
             (Resources::DRIFT_FILE, &resources.drift_csv),
             (Resources::VISCOUS_FILE, &resources.viscous_csv),
+            (Resources::CROSSFLOW_FILE, &resources.crossflow_csv),
         ];
         for (file, text) in optional {
             if let Some(text) = text {

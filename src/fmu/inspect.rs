@@ -38,6 +38,9 @@ pub struct Inspection {
     pub viscous: bool,
     /// The water depth the tables were computed for (`depth`; deep water without one).
     pub depth: crate::units::WaterDepth,
+    /// A ship's cross-flow strips (`resources/crossflow.csv`, `crossflow.drag_scale`): their
+    /// count, sway `C_D` range and lateral area.
+    pub crossflow: Option<String>,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -93,6 +96,9 @@ impl fmt::Display for Inspection {
                 f,
                 "viscous           damping_linear, damping_quadratic; current.speed, current.heading; force_viscous.<dof>"
             )?;
+        }
+        if let Some(strips) = &self.crossflow {
+            writeln!(f, "  cross-flow      {strips}; crossflow.drag_scale")?;
         }
         match &self.scene {
             Some(scene) => {
@@ -181,13 +187,18 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         &mut archive,
         &format!("resources/{}", Resources::VISCOUS_FILE),
     )?;
+    let crossflow = read_entry(
+        &mut archive,
+        &format!("resources/{}", Resources::CROSSFLOW_FILE),
+    )?;
     let scene = read_entry(&mut archive, SCENE_FILE)?;
     let resources = Resources::new(network, hull, options)
         .map_err(|e| e.to_string())?
         .with_excitation(excitation)
         .with_hydrostatics(hydrostatics)
         .with_drift(drift)
-        .with_viscous(viscous);
+        .with_viscous(viscous)
+        .with_crossflow(crossflow);
     let model = Model::from_resources(&resources).map_err(|e| e.to_string())?;
 
     let mut out = Inspection {
@@ -203,6 +214,10 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         drift: resources.drift_csv.is_some(),
         viscous: resources.viscous_csv.is_some(),
         depth: model.depth(),
+        crossflow: model
+            .viscous()
+            .and_then(|v| v.crossflow())
+            .map(|c| crate::model::crossflow::describe(c.strips())),
         entries,
         scene,
     };

@@ -8,6 +8,7 @@
 //! resources/hydrostatics.csv  the restoring C / (rho g) of a body without a hull file (a ship)
 //! resources/drift.csv     the mean drift table (docs/WAVES.md), when packed with one
 //! resources/viscous.csv   the viscous damping coefficients (docs/CURRENT.md), when packed with them
+//! resources/crossflow.csv a ship's cross-flow strips (docs/CURRENT.md), with viscous.csv
 //! ```
 //!
 //! The GUID of an FMU is the content hash of these texts ([`Resources::guid`]).
@@ -71,6 +72,8 @@ pub struct Resources {
     pub drift_csv: Option<String>,
     /// Text of `viscous.csv`, the viscous damping, when the FMU models it.
     pub viscous_csv: Option<String>,
+    /// Text of `crossflow.csv`, a ship's cross-flow strips, when packed with them.
+    pub crossflow_csv: Option<String>,
 }
 
 impl Resources {
@@ -88,6 +91,16 @@ impl Resources {
     pub const DRIFT_FILE: &'static str = "drift.csv";
     /// The viscous damping coefficients (optional).
     pub const VISCOUS_FILE: &'static str = "viscous.csv";
+    /// A ship's cross-flow strips (optional; `crate::model::crossflow`).
+    pub const CROSSFLOW_FILE: &'static str = "crossflow.csv";
+
+    /// The same resources with the cross-flow strips `text`, or without them.
+    pub fn with_crossflow(self, text: Option<String>) -> Resources {
+        Resources {
+            crossflow_csv: text,
+            ..self
+        }
+    }
 
     /// The same resources with the viscous damping `text`, or without one.
     pub fn with_viscous(self, text: Option<String>) -> Resources {
@@ -145,6 +158,7 @@ impl Resources {
             hydrostatics_csv: None,
             drift_csv: None,
             viscous_csv: None,
+            crossflow_csv: None,
         })
     }
 
@@ -174,11 +188,13 @@ impl Resources {
         let hydrostatics = optional(Self::HYDROSTATICS_FILE)?;
         let drift = optional(Self::DRIFT_FILE)?;
         let viscous = optional(Self::VISCOUS_FILE)?;
+        let crossflow = optional(Self::CROSSFLOW_FILE)?;
         Ok(Resources::new(network, hull, options)?
             .with_excitation(excitation)
             .with_hydrostatics(hydrostatics)
             .with_drift(drift)
-            .with_viscous(viscous))
+            .with_viscous(viscous)
+            .with_crossflow(crossflow))
     }
 
     /// Resources from the network text and the flags (the options text is written, not
@@ -197,6 +213,7 @@ impl Resources {
             hydrostatics_csv: None,
             drift_csv: None,
             viscous_csv: None,
+            crossflow_csv: None,
         }
     }
 
@@ -230,6 +247,10 @@ impl Resources {
         // Absent: the GUID of an FMU without viscous damping stays what it was.
         if let Some(v) = &self.viscous_csv {
             parts.push((Self::VISCOUS_FILE, v.as_bytes()));
+        }
+        // Absent: the GUID of an FMU without strips stays what it was.
+        if let Some(c) = &self.crossflow_csv {
+            parts.push((Self::CROSSFLOW_FILE, c.as_bytes()));
         }
         content_guid(&parts)
     }
@@ -301,6 +322,10 @@ mod tests {
             .with_excitation(Some("kR,j,heading,re,im\n".into()));
         assert_ne!(plain.guid(), waves.guid());
         assert_eq!(plain.clone().with_excitation(None).guid(), plain.guid());
+        // So are a ship's strips.
+        let strips = plain.clone().with_crossflow(Some("x,weight\n".into()));
+        assert_ne!(plain.guid(), strips.guid());
+        assert_eq!(plain.clone().with_crossflow(None).guid(), plain.guid());
     }
 
     #[test]

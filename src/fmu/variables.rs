@@ -219,6 +219,9 @@ pub enum Quantity {
     /// Water depth the tables were computed for (fixed parameter, m; only in finite depth:
     /// [`Layout::with_depth`]).
     Depth,
+    /// Scale of a ship's cross-flow strips (parameter; only with them:
+    /// [`Layout::with_crossflow`]).
+    CrossflowDragScale,
 }
 
 /// FMI causality.
@@ -290,6 +293,8 @@ pub struct Layout {
     pub(super) viscous: bool,
     /// The finite water depth (m) of `depth` ([`Layout::with_depth`]).
     pub(super) depth: Option<f64>,
+    /// `crossflow.drag_scale` exists ([`Layout::with_crossflow`]).
+    pub(super) crossflow: bool,
 }
 
 /// Value reference of `depth` ([`Layout::with_depth`]): in the range reserved for the fixed
@@ -374,6 +379,7 @@ impl Layout {
             drift: false,
             viscous: false,
             depth: None,
+            crossflow: false,
         };
         let mut vars = Vec::new();
         for p in PARAMETERS {
@@ -717,7 +723,7 @@ impl Layout {
                 waves_base(n) + 2 * n + 1 + i * n + j
             }
             Quantity::ForceDrift(i) if i < n && self.drift => drift_base(n) + i,
-            q if self.viscous => viscous::offset(q, n)?,
+            q if self.viscous => viscous::offset(q, n, self.crossflow)?,
             _ => return None,
         };
         u32::try_from(base + offset).ok()
@@ -766,7 +772,7 @@ impl Layout {
         } else if self.drift && k == drift_base(n) + n {
             Quantity::Wave(WaveParameter::Drift)
         } else if self.viscous {
-            return viscous::quantity(k, n);
+            return viscous::quantity(k, n, self.crossflow);
         } else {
             return None;
         };

@@ -40,6 +40,9 @@
 //! calculated parameters overflow. A state replaces the current one only if it meets the
 //! rules of `validate` ([`Model::set_state`], [`Model::deserialize`]).
 
+pub mod crossflow;
+#[cfg(test)]
+mod crossflow_tests;
 #[cfg(test)]
 mod depth_tests;
 #[cfg(test)]
@@ -433,9 +436,17 @@ impl Model {
         if let Some(text) = &resources.viscous_csv {
             let (frame, linear, quadratic) =
                 viscous::parse_csv(text, &names).map_err(ModelError::Variable)?;
-            model.set_viscous(Some(
-                viscous::Viscous::new(&names, frame, linear, quadratic)
-                    .map_err(ModelError::Variable)?,
+            let mut damping = viscous::Viscous::new(&names, frame, linear, quadratic)
+                .map_err(ModelError::Variable)?;
+            if let Some(text) = &resources.crossflow_csv {
+                damping = damping.with_crossflow(
+                    viscous::crossflow_of(text, &names, frame).map_err(ModelError::Variable)?,
+                );
+            }
+            model.set_viscous(Some(damping));
+        } else if resources.crossflow_csv.is_some() {
+            return Err(ModelError::Variable(
+                "resources/crossflow.csv without resources/viscous.csv".into(),
             ));
         }
         if let Some(text) = &resources.hydrostatics_csv {
@@ -610,6 +621,9 @@ impl Model {
         }
         if let Some(v) = &self.viscous {
             layout = layout.with_viscous(&v.linear, &v.quadratic)?;
+            if v.crossflow().is_some() {
+                layout = layout.with_crossflow()?;
+            }
         }
         if let WaterDepth::Finite(depth) = self.depth {
             layout = layout.with_depth(depth)?;
@@ -930,6 +944,7 @@ impl Model {
             | Quantity::CurrentHeading
             | Quantity::DampingLinear(..)
             | Quantity::DampingQuadratic(_)
+            | Quantity::CrossflowDragScale
                 if self.viscous.is_some() =>
             {
                 self.set_viscous_value(quantity, value)?

@@ -113,7 +113,7 @@ impl Model {
         }
         if let Some(viscous) = &mut self.viscous {
             // Zero coefficients and no current add +-0: the force stays bit for bit.
-            viscous.force(&s.velocity, &mut out.viscous);
+            viscous.force(&s.velocity, s.rho, &mut out.viscous);
             out.force += &out.viscous;
         }
         out.energy = None;
@@ -180,8 +180,17 @@ impl Model {
             Quantity::CurrentSpeed
             | Quantity::CurrentHeading
             | Quantity::DampingLinear(..)
-            | Quantity::DampingQuadratic(_) => match &self.viscous {
+            | Quantity::DampingQuadratic(_)
+            | Quantity::CrossflowDragScale => match &self.viscous {
                 Some(v) => match quantity {
+                    Quantity::CrossflowDragScale => match v.crossflow() {
+                        Some(c) => c.scale(),
+                        None => {
+                            return Err(ModelError::Variable(format!(
+                                "{quantity:?} does not exist"
+                            )))
+                        }
+                    },
                     Quantity::CurrentSpeed => v.speed,
                     Quantity::CurrentHeading => v.heading,
                     Quantity::DampingLinear(i, j) if i < n && j < n => v.linear[(i, j)],
@@ -249,7 +258,7 @@ impl Model {
         };
         // The viscous force's rate with the current held: dF/dv v'.
         let viscous_rate = match &self.viscous {
-            Some(v) => v.jacobian(&s.velocity) * &s.velocity_derivative,
+            Some(v) => v.jacobian(&s.velocity, s.rho) * &s.velocity_derivative,
             None => DVector::zeros(n),
         };
         match quantity {
@@ -388,8 +397,12 @@ impl Model {
     ) -> Result<f64, ModelError> {
         let n = self.dof_count();
         if matches!(of, Quantity::ForceViscous(i) if i < n && self.viscous.is_some()) {
-            // The viscous coefficients are the user's: they depend on neither.
-            return Ok(0.0);
+            // The viscous coefficients are the user's: they depend on neither; a ship's
+            // cross-flow strips scale with rho.
+            return Ok(match parameter {
+                Quantity::Rho => self.crossflow_per_rho(of).unwrap_or(0.0),
+                _ => 0.0,
+            });
         }
         let exists = match of {
             Quantity::Force(i) | Quantity::ForceRadiation(i) => i < n,
@@ -413,8 +426,11 @@ impl Model {
             value -= self.outputs.viscous[i];
         }
         if parameter == Quantity::Rho {
-            // Every term is proportional to rho.
-            return Ok(value / self.system.rho);
+            // Every term is proportional to rho (a ship's cross-flow strips too).
+            return Ok(match self.crossflow_per_rho(of) {
+                Some(strips) => value / self.system.rho + strips,
+                None => value / self.system.rho,
+            });
         }
         let g = self.system.g;
         let derivative = match of {

@@ -17,7 +17,12 @@
 //! `dof,quadratic,<dof_1>,..,<dof_n>`, then one row per DOF in the network's order:
 //! `<dof_i>,B_q[i],B_l[i,1],..,B_l[i,n]`. Without the frame line, `sway` is along y when the
 //! DOFs include `surge`, else along x.
+//!
+//! A ship packed with its cross-flow strips (`resources/crossflow.csv`, [`super::crossflow`])
+//! adds their drag: `F_visc` gains the strips' force, which couples sway with yaw and heave
+//! with pitch and scales with `rho`; the Jacobian and the current's derivatives gain theirs.
 
+use super::crossflow::{check_scale, Crossflow};
 use crate::fmu::variables::Quantity;
 use nalgebra::{DMatrix, DVector};
 
@@ -43,6 +48,10 @@ pub struct Viscous {
     relative: DVector<f64>,
     /// `B_l` is diagonal (the usual case: the force costs n products, not n^2).
     diagonal: bool,
+    /// A ship's cross-flow strips, if packed.
+    crossflow: Option<Crossflow>,
+    /// `U sin(psi)`: the current across a ship's strips.
+    lateral_current: f64,
 }
 
 /// Where a body's translations point, for the current.
@@ -124,6 +133,8 @@ impl Viscous {
             current: DVector::zeros(n),
             relative: DVector::zeros(n),
             diagonal: true,
+            crossflow: None,
+            lateral_current: 0.0,
         }
     }
 
@@ -180,7 +191,29 @@ impl Viscous {
         for (c, (a, b)) in self.current.iter_mut().zip(&self.axes) {
             *c = speed * (a * cos + b * sin);
         }
+        self.lateral_current = speed * sin;
         Ok(())
+    }
+
+    /// The same damping with a ship's cross-flow strips.
+    pub fn with_crossflow(self, crossflow: Crossflow) -> Viscous {
+        Viscous {
+            crossflow: Some(crossflow),
+            ..self
+        }
+    }
+
+    /// The cross-flow strips, if packed.
+    pub fn crossflow(&self) -> Option<&Crossflow> {
+        self.crossflow.as_ref()
+    }
+
+    /// Sets `crossflow.drag_scale` (finite, not negative) of an FMU with strips.
+    pub fn set_crossflow_scale(&mut self, value: f64) -> Result<(), String> {
+        match self.crossflow.as_mut() {
+            Some(c) => c.set_scale(value),
+            None => Err("crossflow.drag_scale: this FMU has no cross-flow strips".into()),
+        }
     }
 
     /// `B_l`.
@@ -198,8 +231,8 @@ impl Viscous {
         &self.current
     }
 
-    /// `F_visc` at velocity `v` into `force`.
-    pub fn force(&mut self, velocity: &DVector<f64>, force: &mut DVector<f64>) {
+    /// `F_visc` at velocity `v` into `force`, in water of density `rho` (the strips').
+    pub fn force(&mut self, velocity: &DVector<f64>, rho: f64, force: &mut DVector<f64>) {
         self.relative.copy_from(velocity);
         self.relative -= &self.current;
         if self.diagonal {
@@ -213,10 +246,36 @@ impl Viscous {
         for ((f, b), v) in force.iter_mut().zip(&self.quadratic).zip(&self.relative) {
             *f -= b * v.abs() * v;
         }
+        if let Some(crossflow) = &self.crossflow {
+            crossflow.add_force(
+                velocity.as_slice(),
+                rho,
+                self.lateral_current,
+                force.as_mut_slice(),
+            );
+        }
     }
 
-    /// `dF_visc/dv` at velocity `v`: `-B_l - 2 diag(B_q |v_r|)`.
-    pub fn jacobian(&self, velocity: &DVector<f64>) -> DMatrix<f64> {
+    /// `dF_visc/dv` at velocity `v`: `-B_l - 2 diag(B_q |v_r|)`, plus the strips'.
+    pub fn jacobian(&self, velocity: &DVector<f64>, rho: f64) -> DMatrix<f64> {
+        let mut jacobian = self.per_dof_jacobian(velocity);
+        if let Some(crossflow) = &self.crossflow {
+            let n = velocity.len();
+            let (mut unused_speed, mut unused_degree) = (DVector::zeros(n), DVector::zeros(n));
+            crossflow.add_derivatives(
+                velocity.as_slice(),
+                rho,
+                (self.speed, self.heading),
+                &mut jacobian,
+                &mut unused_speed,
+                &mut unused_degree,
+            );
+        }
+        jacobian
+    }
+
+    /// `-B_l - 2 diag(B_q |v_r|)`.
+    fn per_dof_jacobian(&self, velocity: &DVector<f64>) -> DMatrix<f64> {
         let mut jacobian = -&self.linear;
         for i in 0..velocity.len() {
             let relative = velocity[i] - self.current[i];
@@ -225,9 +284,14 @@ impl Viscous {
         jacobian
     }
 
-    /// `dF_visc/dU` and `dF_visc/dpsi` (per deg) at velocity `v`: `-J dc/dU`, `-J dc/dpsi`.
-    pub fn current_derivatives(&self, velocity: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
-        let jacobian = self.jacobian(velocity);
+    /// `dF_visc/dU` and `dF_visc/dpsi` (per deg) at velocity `v`: `-J dc/dU`, `-J dc/dpsi`
+    /// with the per-DOF `J`, plus the strips'.
+    pub fn current_derivatives(
+        &self,
+        velocity: &DVector<f64>,
+        rho: f64,
+    ) -> (DVector<f64>, DVector<f64>) {
+        let jacobian = self.per_dof_jacobian(velocity);
         let (sin, cos) = self.heading.to_radians().sin_cos();
         let per_speed = DVector::from_iterator(
             self.axes.len(),
@@ -239,7 +303,20 @@ impl Viscous {
                 .iter()
                 .map(|(a, b)| self.speed * (b * cos - a * sin) * std::f64::consts::PI / 180.0),
         );
-        (-(&jacobian * per_speed), -(&jacobian * per_degree))
+        let mut per_speed = -(&jacobian * per_speed);
+        let mut per_degree = -(&jacobian * per_degree);
+        if let Some(crossflow) = &self.crossflow {
+            let mut unused = DMatrix::zeros(velocity.len(), velocity.len());
+            crossflow.add_derivatives(
+                velocity.as_slice(),
+                rho,
+                (self.speed, self.heading),
+                &mut unused,
+                &mut per_speed,
+                &mut per_degree,
+            );
+        }
+        (per_speed, per_degree)
     }
 
     /// The explicit step bound `h < 2 m_i / (B_l[i,i] + 2 B_q[i] |v_r|)` of DOF `i` for its
@@ -269,6 +346,11 @@ pub fn check_value(quantity: Quantity, value: f64, initializing: bool) -> Result
             "damping_quadratic[{}] is a fixed parameter: set it before initialization mode ends",
             i + 1
         )),
+        Quantity::CrossflowDragScale if !initializing => Err(
+            "crossflow.drag_scale is a fixed parameter: set it before initialization mode ends"
+                .into(),
+        ),
+        Quantity::CrossflowDragScale => check_scale(value),
         Quantity::DampingLinear(i, j) => check_linear(i, j, value),
         Quantity::DampingQuadratic(i) => check_quadratic(i, value),
         Quantity::CurrentSpeed if !value.is_finite() => {
@@ -388,6 +470,17 @@ pub fn parse_csv(
     Ok((frame, linear, quadratic))
 }
 
+/// The cross-flow strips of `crossflow.csv` ([`super::crossflow`]) for the network's DOFs
+/// `names` of a body in `frame` (a whole body only: a section has no stations).
+pub fn crossflow_of(text: &str, names: &[String], frame: Frame) -> Result<Crossflow, String> {
+    if frame != Frame::Body {
+        return Err(
+            "resources/crossflow.csv: cross-flow strips need a whole body (frame body)".into(),
+        );
+    }
+    Ok(Crossflow::new(super::crossflow::parse_csv(text)?, names))
+}
+
 /// The text of `viscous.csv` for these coefficients of a body in `frame` (exact: shortest
 /// round-trip numbers).
 pub fn write_csv(
@@ -447,12 +540,13 @@ impl super::Model {
             return Ok(None);
         };
         let velocity = &self.state.velocity;
+        let rho = self.state.rho;
         let value = match (of, with_respect_to) {
             (Quantity::Force(i), Quantity::Velocity(j)) if i < n && j < n => {
-                -self.system.damping_direct[(i, j)] + viscous.jacobian(velocity)[(i, j)]
+                -self.system.damping_direct[(i, j)] + viscous.jacobian(velocity, rho)[(i, j)]
             }
             (Quantity::ForceViscous(i), Quantity::Velocity(j)) if i < n && j < n => {
-                viscous.jacobian(velocity)[(i, j)]
+                viscous.jacobian(velocity, rho)[(i, j)]
             }
             (Quantity::ForceViscous(i), Quantity::Acceleration(j))
                 if i < n && j < n && self.system.keep_inf_mass =>
@@ -463,7 +557,7 @@ impl super::Model {
                 Quantity::Force(i) | Quantity::ForceViscous(i),
                 Quantity::CurrentSpeed | Quantity::CurrentHeading,
             ) if i < n => {
-                let (per_speed, per_degree) = viscous.current_derivatives(velocity);
+                let (per_speed, per_degree) = viscous.current_derivatives(velocity, rho);
                 if with_respect_to == Quantity::CurrentSpeed {
                     per_speed[i]
                 } else {
@@ -491,8 +585,22 @@ impl super::Model {
         Ok(Some(value))
     }
 
-    /// Sets `current.speed`, `current.heading`, `damping_linear[i,j]` or
-    /// `damping_quadratic[i]`; a value refused names the variable and changes nothing.
+    /// The strips' force in the DOF of `of` (`force` or `force_viscous`) per unit `rho`: its
+    /// derivative with respect to `rho` (`None`: no strips).
+    pub(super) fn crossflow_per_rho(&self, of: Quantity) -> Option<f64> {
+        let viscous = self.viscous.as_ref()?;
+        let crossflow = viscous.crossflow()?;
+        let (Quantity::Force(i) | Quantity::ForceViscous(i)) = of else {
+            return Some(0.0);
+        };
+        let velocity = self.state.velocity.as_slice();
+        let mut force = vec![0.0; velocity.len()];
+        crossflow.add_force(velocity, 1.0, viscous.lateral_current, &mut force);
+        force.get(i).copied()
+    }
+
+    /// Sets `current.speed`, `current.heading`, `damping_linear[i,j]`,
+    /// `damping_quadratic[i]` or `crossflow.drag_scale`; a value refused names the variable and changes nothing.
     pub(super) fn set_viscous_value(
         &mut self,
         quantity: Quantity,
@@ -509,6 +617,7 @@ impl super::Model {
             Quantity::CurrentHeading => viscous.set_current(viscous.speed, value),
             Quantity::DampingLinear(i, j) if i < n && j < n => viscous.set_linear(i, j, value),
             Quantity::DampingQuadratic(i) if i < n => viscous.set_quadratic(i, value),
+            Quantity::CrossflowDragScale => viscous.set_crossflow_scale(value),
             other => Err(format!("{other:?} cannot be set")),
         };
         self.state.current = [viscous.speed, viscous.heading];

@@ -367,12 +367,12 @@ fn a_diagonal_linear_damping_gives_the_full_products_force() {
     let (mut a, mut b) = (DVector::zeros(2), DVector::zeros(2));
     for v in [[0.3, -0.2], [-1.1, 0.0], [0.0, 2.5]] {
         let v = DVector::from_vec(v.to_vec());
-        fast.force(&v, &mut a);
-        full.force(&v, &mut b);
+        fast.force(&v, 1025.0, &mut a);
+        full.force(&v, 1025.0, &mut b);
         assert_eq!(a, b);
     }
     let mut coupled = Viscous::new(&names(), Frame::Section, linear(), quadratic()).unwrap();
-    coupled.force(&DVector::from_vec(vec![1.0, 1.0]), &mut a);
+    coupled.force(&DVector::from_vec(vec![1.0, 1.0]), 1025.0, &mut a);
     assert_eq!(a[0], -(2.0 + 0.5) - 3.0);
 }
 

@@ -13,11 +13,16 @@
 //!
 //! Yaw and pitch: a rotation rate `r` moves the strip at `x` by `x r`, its drag
 //! `-0.5 rho C_D D |x r| x r` has the moment `-r |r| int 0.5 rho C_D D |x| x^2 dx` about the
-//! origin. The FMU's quadratic damping is one coefficient per DOF, so the drag's sway-yaw and
-//! heave-pitch cross terms are left out.
+//! origin. These per-DOF coefficients leave out the drag's sway-yaw and heave-pitch cross
+//! terms and the current's yaw moment; [`ShipEstimate::strips`] carries them: one
+//! [`Strip`] per station with a section (its trapezoid weight `w`, draft, breadth and the
+//! sway and heave `C_D`), whose drag the FMU sums strip by strip ([`crate::model::crossflow`]).
+//! With a yaw rate alone the strips give exactly the yaw coefficient above:
+//! `sum w 0.5 rho C_D T |x|^3 = int 0.5 rho C_D T |x|^3 dx` by the same trapezoidal rule.
 
 use super::hull::{hull_roll_damping, section_drag, HullDampingError};
 use super::{integrate_along, CrossFlow, Damping, Warning};
+use crate::model::crossflow::Strip;
 use crate::ship::Ship;
 
 /// The ship's estimated damping per rigid DOF: `(name, Damping)`, and the sections' warnings.
@@ -27,6 +32,20 @@ pub struct ShipEstimate {
     pub dofs: Vec<(&'static str, Damping)>,
     /// Ikeda's validity warnings of the sections, with the station's x.
     pub warnings: Vec<(f64, Warning)>,
+    /// The cross-flow strips: one per station with a section (module docs).
+    pub strips: Vec<Strip>,
+}
+
+/// The trapezoidal rule's weight of each of the abscissae `x` (m): half the distance between
+/// its neighbours (one neighbour at the ends).
+fn trapezoid_weights(x: &[f64]) -> Vec<f64> {
+    (0..x.len())
+        .map(|k| {
+            let before = if k > 0 { x[k] - x[k - 1] } else { 0.0 };
+            let after = x.get(k + 1).map_or(0.0, |next| next - x[k]);
+            0.5 * (before + after)
+        })
+        .collect()
 }
 
 /// The estimate of `ship` at roll frequency `omega` (rad/s) and amplitude `phi_a` (rad), in
@@ -43,7 +62,10 @@ pub fn ship_estimate(
     let mut roll = Vec::new();
     let mut drag: [Vec<(f64, Damping)>; 4] = Default::default();
     let mut warnings = Vec::new();
-    for station in ship.stations() {
+    let mut strips = Vec::new();
+    let stations: Vec<f64> = ship.stations().iter().map(|s| s.x).collect();
+    let weights = trapezoid_weights(&stations);
+    for (station, weight) in ship.stations().iter().zip(weights) {
         let x = station.x;
         let Some(index) = station.section else {
             roll.push((x, Damping::default()));
@@ -65,18 +87,35 @@ pub fn ship_estimate(
         let (_, damping) = hull_roll_damping(&section, rho, omega, phi_a).map_err(located)?;
         warnings.extend(damping.warnings.iter().map(|w| (x, w.clone())));
         roll.push((x, damping.total()));
+        let mut strip = Strip {
+            x,
+            weight,
+            draft: 0.0,
+            breadth: 0.0,
+            cd_sway: 0.0,
+            cd_heave: 0.0,
+        };
         for d in section_drag(&section, rho).map_err(located)? {
             let quadratic = |weight: f64| Damping {
                 linear: 0.0,
                 quadratic: d.quadratic * weight,
             };
+            // B_q = 0.5 rho C_D D: the projected depth D back from it.
+            let projected = d.quadratic / (0.5 * rho * d.drag_coefficient);
             let (along, moment) = match d.flow {
-                CrossFlow::Sway => (0, 2),
-                CrossFlow::Heave => (1, 3),
+                CrossFlow::Sway => {
+                    (strip.draft, strip.cd_sway) = (projected, d.drag_coefficient);
+                    (0, 2)
+                }
+                CrossFlow::Heave => {
+                    (strip.breadth, strip.cd_heave) = (projected, d.drag_coefficient);
+                    (1, 3)
+                }
             };
             drag[along].push((x, quadratic(1.0)));
             drag[moment].push((x, quadratic(x.abs().powi(3))));
         }
+        strips.push(strip);
     }
     let names = ["sway", "heave", "yaw", "pitch"];
     let mut dofs = vec![("roll", integrate_along(&roll))];
@@ -86,7 +125,11 @@ pub fn ship_estimate(
             .zip(&drag)
             .map(|(n, c)| (*n, integrate_along(c))),
     );
-    Ok(ShipEstimate { dofs, warnings })
+    Ok(ShipEstimate {
+        dofs,
+        warnings,
+        strips,
+    })
 }
 
 #[cfg(test)]

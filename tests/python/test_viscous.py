@@ -201,3 +201,80 @@ def test_bad_values_are_refused_naming_them(calm_fmu):
     with pytest.raises(Exception):
         fmu.setReal([vr["current.speed"]], [math.inf])
     fmu.freeInstance()
+
+
+# A ship whose stern is deeper than its bow (drafts 6 m aft to 3 m forward): its lateral area
+# lies aft of the origin, so a current across it turns it (docs/CURRENT.md, "A ship's
+# cross-flow strips").
+WEDGE_SHIP = """<ship name="wedge" units="m" version="1">
+{stations}  <rigid dofs="sway yaw"/>
+</ship>
+""".format(stations="".join(
+    f'  <station x="{x}"><lewis breadth="10" draft="{draft}" area_coefficient="0.9"/></station>\n'
+    for x, draft in zip(range(-30, 31, 10), [6.0, 5.5, 5.0, 4.5, 4.0, 3.5, 3.0])))
+
+
+@pytest.fixture(scope="module")
+def ship_fmu(fmu_pack_binary, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("crossflow")
+    ship = folder / "wedge.xml"
+    ship.write_text(WEDGE_SHIP)
+    path = folder / "Wedge.fmu"
+    subprocess.run([str(fmu_pack_binary), "pack", str(ship), "--omega", "0.2:2:8", "--panels", "16",
+                    "--allow-tolerance-miss", "--viscous", "-o", str(path)],
+                   check=True, capture_output=True)
+    return path
+
+
+def strips_of(path):
+    """(x, c_y = 0.5 C_D T w) of every strip in the archive's resources/crossflow.csv."""
+    import zipfile
+    with zipfile.ZipFile(path) as archive:
+        text = archive.read("resources/crossflow.csv").decode()
+    rows = [line.split(",") for line in text.splitlines() if line and not line.startswith("#")]
+    assert rows[0] == ["x", "weight", "draft", "breadth", "cd_sway", "cd_heave"]
+    return [(float(r[0]), 0.5 * float(r[4]) * float(r[2]) * float(r[1])) for r in rows[1:]]
+
+
+@pytest.mark.parametrize("heading", [90.0, 240.0, 0.0])
+def test_a_current_across_a_ship_gives_the_strips_sway_force_and_yaw_moment(ship_fmu, heading):
+    strips = strips_of(ship_fmu)
+    assert len(strips) == 7
+    fmu, vr, md = start(ship_fmu)
+    by_name = {v.name: v for v in md.modelVariables}
+    # The strips carry the drag: the per-DOF quadratic coefficients are packed 0.
+    assert float(by_name["damping_quadratic[1]"].start) == 0.0
+    assert float(by_name["damping_quadratic[2]"].start) == 0.0
+    assert float(by_name["crossflow.drag_scale"].start) == 1.0
+    speed = 1.2
+    fmu.setReal([vr["current.speed"], vr["current.heading"]], [speed, heading])
+    across = speed * math.sin(math.radians(heading))
+    force = RHO * sum(c for _, c in strips) * abs(across) * across
+    moment = RHO * sum(x * c for x, c in strips) * abs(across) * across
+    names = ["force_viscous.sway", "force_viscous.yaw", "force.sway", "force.yaw"]
+    for n in range(5):
+        fmu.doStep(currentCommunicationPoint=n * 0.1, communicationStepSize=0.1)
+        values = dict(zip(names, fmu.getReal([vr[k] for k in names])))
+        if heading == 0.0:
+            # A head current: no cross flow, no force, no moment.
+            assert values["force_viscous.sway"] == 0.0 and values["force_viscous.yaw"] == 0.0
+            continue
+        # Sums of seven strips: rounding of 1e-15 relative.
+        assert values["force_viscous.sway"] == pytest.approx(force, rel=1e-12)
+        assert values["force_viscous.yaw"] == pytest.approx(moment, rel=1e-12)
+        # The hull at rest in calm water: the force is the viscous force alone.
+        assert values["force.yaw"] == values["force_viscous.yaw"]
+    if heading != 0.0:
+        # The deeper stern: the drag's centre lies aft, about 3.5 m behind the origin.
+        assert moment / force < -1.5
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_the_drag_scale_switches_the_strips_off(ship_fmu):
+    fmu, vr, _ = start(ship_fmu, parameters={"crossflow.drag_scale": 0.0})
+    fmu.setReal([vr["current.speed"], vr["current.heading"]], [1.2, 90.0])
+    fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.1)
+    assert fmu.getReal([vr["force_viscous.sway"], vr["force_viscous.yaw"]]) == [0.0, 0.0]
+    fmu.terminate()
+    fmu.freeInstance()

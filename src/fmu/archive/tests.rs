@@ -31,6 +31,7 @@ fn hull() -> Body {
         excitation_csv: None,
         drift_csv: None,
         viscous: None,
+        crossflow_csv: None,
         report: None,
     }
 }

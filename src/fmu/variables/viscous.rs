@@ -9,6 +9,7 @@
 //! | `current.heading` (deg) | input, start 0 | v0 + n + 1 |
 //! | `damping_quadratic[i]` | parameter | v0 + n + 2 + i - 1 |
 //! | `damping_linear[i,j]` | parameter | v0 + 2n + 2 + (i-1) n + j - 1 |
+//! | `crossflow.drag_scale` (a ship's strips only) | parameter, start 1 | v0 + 2n + 2 + n^2 |
 
 use super::{drift_base, Causality, Layout, Quantity, Variable, VariablesError};
 use nalgebra::{DMatrix, DVector};
@@ -19,7 +20,7 @@ fn viscous_base(n: usize) -> usize {
 }
 
 /// The offset of a viscous quantity (`None`: not one, or out of range).
-pub(super) fn offset(quantity: Quantity, n: usize) -> Option<usize> {
+pub(super) fn offset(quantity: Quantity, n: usize, crossflow: bool) -> Option<usize> {
     let base = viscous_base(n);
     Some(match quantity {
         Quantity::ForceViscous(i) if i < n => base + i,
@@ -27,12 +28,13 @@ pub(super) fn offset(quantity: Quantity, n: usize) -> Option<usize> {
         Quantity::CurrentHeading => base + n + 1,
         Quantity::DampingQuadratic(i) if i < n => base + n + 2 + i,
         Quantity::DampingLinear(i, j) if i < n && j < n => base + 2 * n + 2 + i * n + j,
+        Quantity::CrossflowDragScale if crossflow => base + 2 * n + 2 + n * n,
         _ => return None,
     })
 }
 
 /// The viscous quantity at offset `k` (`None`: not one).
-pub(super) fn quantity(k: usize, n: usize) -> Option<Quantity> {
+pub(super) fn quantity(k: usize, n: usize, crossflow: bool) -> Option<Quantity> {
     let r = k.checked_sub(viscous_base(n))?;
     Some(if r < n {
         Quantity::ForceViscous(r)
@@ -45,6 +47,8 @@ pub(super) fn quantity(k: usize, n: usize) -> Option<Quantity> {
     } else if r < 2 * n + 2 + n * n {
         let r = r - 2 * n - 2;
         Quantity::DampingLinear(r / n, r % n)
+    } else if crossflow && r == 2 * n + 2 + n * n {
+        Quantity::CrossflowDragScale
     } else {
         return None;
     })
@@ -159,6 +163,41 @@ impl Layout {
         }
         self.variables.extend(vars);
         Ok(self)
+    }
+
+    /// This layout with `crossflow.drag_scale` (fixed parameter, start 1), after the viscous
+    /// variables ([`Layout::with_viscous`] first): a ship packed with its cross-flow strips.
+    pub fn with_crossflow(mut self) -> Result<Layout, VariablesError> {
+        if !self.viscous {
+            return Err(VariablesError::Xml(
+                "crossflow.drag_scale needs the viscous variables".into(),
+            ));
+        }
+        if self.crossflow {
+            return Ok(self);
+        }
+        self.crossflow = true;
+        let quantity = Quantity::CrossflowDragScale;
+        self.variables.push(Variable {
+            name: "crossflow.drag_scale".into(),
+            value_reference: self
+                .value_reference(quantity)
+                .ok_or(VariablesError::MissingValueReference)?,
+            quantity,
+            causality: Causality::Parameter,
+            unit: "1",
+            description: "Scale of the ship's cross-flow strips' drag (>= 0; 0 switches them \
+                          off; docs/CURRENT.md)"
+                .into(),
+            start: Some(1.0),
+            integer: false,
+        });
+        Ok(self)
+    }
+
+    /// Whether `crossflow.drag_scale` exists ([`Layout::with_crossflow`]).
+    pub fn has_crossflow(&self) -> bool {
+        self.crossflow
     }
 
     /// Whether the viscous variables exist ([`Layout::with_viscous`]).
