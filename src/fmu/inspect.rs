@@ -36,6 +36,8 @@ pub struct Inspection {
     /// Packed with viscous damping (`resources/viscous.csv`: `damping_linear`,
     /// `damping_quadratic`, `current.speed`, `current.heading`, `force_viscous.<dof>`).
     pub viscous: bool,
+    /// The platforms with a binary: the folders under `binaries/`, in archive order.
+    pub platforms: Vec<String>,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -47,6 +49,7 @@ impl fmt::Display for Inspection {
         writeln!(f, "model             {}", self.model_name)?;
         writeln!(f, "FMI version       {}", self.fmi_version)?;
         writeln!(f, "modelIdentifier   {}", self.model_identifier)?;
+        writeln!(f, "platforms         {}", self.platforms.join(", "))?;
         writeln!(
             f,
             "GUID              {} ({})",
@@ -131,6 +134,23 @@ pub fn inspect(path: &Path) -> Result<Inspection, ArchiveError> {
     inspect_archive(path).map_err(|e| ArchiveError(format!("{}: {e}", path.display())))
 }
 
+/// The folders under `binaries/` that hold a file, each once, in the order of `entries`.
+fn platforms(entries: &[String]) -> Vec<String> {
+    let mut found: Vec<String> = Vec::new();
+    for entry in entries {
+        let Some((platform, file)) = entry
+            .strip_prefix("binaries/")
+            .and_then(|rest| rest.split_once('/'))
+        else {
+            continue;
+        };
+        if !file.is_empty() && !found.iter().any(|p| p == platform) {
+            found.push(platform.to_string());
+        }
+    }
+    found
+}
+
 fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) && path.exists() {
         return Err(ArchiveError(
@@ -192,6 +212,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         keep_inf_mass: resources.keep_inf_mass,
         drift: resources.drift_csv.is_some(),
         viscous: resources.viscous_csv.is_some(),
+        platforms: platforms(&entries),
         entries,
         scene,
     };
@@ -239,4 +260,26 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         )));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::platforms;
+
+    #[test]
+    fn platforms_are_the_binaries_folders_in_archive_order() {
+        let entries: Vec<String> = [
+            "modelDescription.xml",
+            "binaries/linux64/M.so",
+            "binaries/win64/M.dll",
+            "binaries/win64/extra.txt",
+            "binaries/empty/",
+            "resources/binaries/x/y",
+            "resources/network.xml",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(platforms(&entries), ["linux64", "win64"]);
+        assert!(platforms(&entries[..1]).is_empty());
+    }
 }
