@@ -304,6 +304,10 @@ pub struct PackArgs {
     /// fmu-pack, building it if fmu-pack runs from this workspace).
     #[arg(long)]
     pub binary: Option<PathBuf>,
+    /// The Windows x86_64 DLL to pack too, as binaries/win64 (FMI 2.0) or
+    /// binaries/x86_64-windows (FMI 3.0) (default: hydrofmu.dll next to the Linux library).
+    #[arg(long)]
+    pub binary_windows: Option<PathBuf>,
     /// modelIdentifier (default: from the output file name).
     #[arg(long)]
     pub model_identifier: Option<String>,

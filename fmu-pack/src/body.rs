@@ -202,6 +202,7 @@ pub fn pack(
     let network = PackedNetwork::from_network(fitted.fit.network.clone());
     let target = crate::packing::Target {
         binary: &binary,
+        binary_windows: args.binary_windows.as_deref(),
         model_identifier: &identifier,
         output: &args.output,
         fmi: args.fmi,

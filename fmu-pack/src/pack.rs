@@ -101,6 +101,7 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     };
     let target = Target {
         binary: &binary,
+        binary_windows: args.binary_windows.as_deref(),
         model_identifier: &identifier,
         output: &args.output,
         fmi: args.fmi,

@@ -47,6 +47,9 @@ impl From<ArchiveError> for PackError {
 pub struct Target<'a> {
     /// The hydrofmu shared library to pack.
     pub binary: &'a Path,
+    /// The Windows DLL to pack too (`--binary-windows`); `None`: the `hydrofmu.dll` found next
+    /// to `binary`, if any ([`locate_windows_binary`]).
+    pub binary_windows: Option<&'a Path>,
     /// modelIdentifier (the binary's name in the archive).
     pub model_identifier: &'a str,
     /// The archive.
@@ -62,6 +65,8 @@ pub struct PackSummary {
     pub path: PathBuf,
     /// modelIdentifier.
     pub model_identifier: String,
+    /// The platforms the archive carries a binary for (`linux64`, `win64`, ...).
+    pub platforms: Vec<String>,
     /// GUID.
     pub guid: String,
     /// DOF names.
@@ -94,6 +99,7 @@ impl fmt::Display for PackSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "wrote {}", self.path.display())?;
         writeln!(f, "  modelIdentifier  {}", self.model_identifier)?;
+        writeln!(f, "  platforms        {}", self.platforms.join(", "))?;
         writeln!(f, "  GUID             {}", self.guid)?;
         writeln!(f, "  DOFs             {}", self.dofs.join(" "))?;
         writeln!(f, "  network states   {}", self.states)?;
@@ -210,12 +216,17 @@ pub fn pack_documented(
 ) -> Result<PackSummary, PackError> {
     let Target {
         binary,
+        binary_windows,
         model_identifier,
         output,
         fmi,
     } = *target;
     refuse_standard_output(output)?;
     let mut archive = Archive::new(body, network, model_identifier, fmu::read_binary(binary)?);
+    if let Some(dll) = locate_windows_binary(binary_windows, binary)? {
+        let bytes = fmu::read_binary(&dll)?;
+        archive.binary_windows = Some(bytes);
+    }
     archive.keep_inf_mass = keep_inf_mass;
     archive.fmi = fmi.into();
     archive.scene = documentation;
@@ -234,6 +245,7 @@ pub fn pack_documented(
     Ok(PackSummary {
         path: output.to_path_buf(),
         model_identifier: model_identifier.to_string(),
+        platforms: packed.platforms,
         guid: packed.guid,
         dofs: packed.dofs,
         states: packed.states,
@@ -334,6 +346,44 @@ pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     )))
 }
 
+/// The Windows DLL's file name that [`locate_windows_binary`] looks for.
+pub const WINDOWS_BINARY_NAME: &str = "hydrofmu.dll";
+
+/// The Windows DLL to pack with `linux` (docs/WINDOWS.md): `explicit` (`--binary-windows`),
+/// else [`WINDOWS_BINARY_NAME`] in `linux`'s folder, or in its parent when that folder is
+/// cargo's `deps`; `None` when there is none. A found DLL older than `linux` is packed with a
+/// warning (rebuild it: `tools/build-windows.sh`).
+pub fn locate_windows_binary(
+    explicit: Option<&Path>,
+    linux: &Path,
+) -> Result<Option<PathBuf>, PackError> {
+    if let Some(p) = explicit {
+        return existing(p, "--binary-windows").map(Some);
+    }
+    let folder = linux.parent().unwrap_or(Path::new("."));
+    let mut candidates = vec![folder.join(WINDOWS_BINARY_NAME)];
+    if folder.ends_with("deps") {
+        if let Some(up) = folder.parent() {
+            candidates.push(up.join(WINDOWS_BINARY_NAME));
+        }
+    }
+    let Some(found) = candidates.into_iter().find(|c| c.is_file()) else {
+        return Ok(None);
+    };
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    if let (Some(dll), Some(so)) = (modified(&found), modified(linux)) {
+        if dll < so {
+            crate::output::stderr_line(&format!(
+                "fmu-pack: warning: {} is older than {}: the Windows binary may lag the \
+                 sources (rebuild it: tools/build-windows.sh)",
+                found.display(),
+                linux.display()
+            ));
+        }
+    }
+    Ok(Some(found))
+}
+
 fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
     if p.is_file() {
         Ok(p.to_path_buf())
@@ -385,6 +435,7 @@ mod tests {
         let id = identifier_from_path(&out);
         let target = Target {
             binary: &binary,
+            binary_windows: None,
             model_identifier: &id,
             output: &out,
             fmi: FmiVersion::V3,
@@ -404,6 +455,51 @@ mod tests {
     }
 
     #[test]
+    fn a_windows_dll_beside_the_linux_library_goes_into_both_standards() {
+        let dir = temp_dir("windows");
+        let binary = dir.join("libhydrofmu.so");
+        std::fs::write(&binary, b"\x7fELF fake").unwrap();
+        let pack = |fmi, windows: Option<&Path>| {
+            let out = dir.join("W.fmu");
+            let target = Target {
+                binary: &binary,
+                binary_windows: windows,
+                model_identifier: "W",
+                output: &out,
+                fmi,
+            };
+            let summary = pack_network(hull(), net(), false, &target, None, None);
+            (summary, inspect(&out))
+        };
+        let (summary, found) = pack(FmiVersion::V2, None);
+        assert_eq!(summary.unwrap().platforms, ["linux64"]);
+        assert_eq!(found.unwrap().platforms, ["linux64"]);
+        std::fs::write(dir.join(WINDOWS_BINARY_NAME), b"MZ fake").unwrap();
+        let (summary, found) = pack(FmiVersion::V2, None);
+        assert_eq!(summary.unwrap().platforms, ["linux64", "win64"]);
+        let found = found.unwrap();
+        assert!(found.entries.contains(&"binaries/win64/W.dll".to_string()));
+        assert!(found
+            .to_string()
+            .contains("platforms         linux64, win64"));
+        let (summary, found) = pack(FmiVersion::V3, None);
+        assert!(summary
+            .unwrap()
+            .to_string()
+            .contains("platforms        x86_64-linux, x86_64-windows"));
+        assert!(found
+            .unwrap()
+            .entries
+            .contains(&"binaries/x86_64-windows/W.dll".to_string()));
+        // Given explicitly: it must exist and be a DLL.
+        let (summary, _) = pack(FmiVersion::V2, Some(&dir.join("none.dll")));
+        assert!(summary.unwrap_err().0.contains("--binary-windows"));
+        let (summary, _) = pack(FmiVersion::V2, Some(&binary));
+        assert!(summary.unwrap_err().0.contains("not a DLL"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn mistakes_are_reported_clearly() {
         let dir = temp_dir("errors");
         let binary = dir.join("lib.so");
@@ -412,6 +508,7 @@ mod tests {
         let to = |binary: &Path, output: &Path| {
             let target = Target {
                 binary,
+                binary_windows: None,
                 model_identifier: "X",
                 output,
                 fmi: FmiVersion::V2,

@@ -1,4 +1,5 @@
-//! The `.fmu` archive: one body, one network, one binary, in either FMI standard.
+//! The `.fmu` archive: one body, one network, a Linux binary (and a Windows one when given), in
+//! either FMI standard.
 //!
 //! Archive layout (zip, deflate, forward slashes, no links, no zip64), in this member order:
 //!
@@ -6,6 +7,8 @@
 //! modelDescription.xml
 //! binaries/linux64/<modelIdentifier>.so       the hydrofmu cdylib (FMI 2.0)
 //! binaries/x86_64-linux/<modelIdentifier>.so  the same library (FMI 3.0)
+//! binaries/win64/<modelIdentifier>.dll        the Windows x86_64 build, when given (FMI 2.0)
+//! binaries/x86_64-windows/<modelIdentifier>.dll  the same (FMI 3.0)
 //! resources/network.xml                       the equivalent network
 //! resources/options.xml                       flags (keep_inf_mass)
 //! resources/hull.xml                          when the hull is known (a section)
@@ -93,6 +96,8 @@ use std::path::{Path, PathBuf};
 pub const SCENE_FILE: &str = "documentation/scene.txt";
 /// Largest FMU library accepted (256 MiB; the release build is under 1 MB, a debug build 17 MB).
 pub const MAX_BINARY_BYTES: u64 = 256 << 20;
+/// The first bytes of a Windows DLL (a PE file's DOS header).
+const WINDOWS_BINARY_MAGIC: &[u8] = b"MZ";
 
 /// Why an archive cannot be made.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -129,11 +134,19 @@ pub enum FmiVersion {
 }
 
 impl FmiVersion {
-    /// The folder of the binary under `binaries/`.
+    /// The folder of the Linux binary under `binaries/`.
     pub fn platform(self) -> &'static str {
         match self {
             FmiVersion::V2 => "linux64",
             FmiVersion::V3 => "x86_64-linux",
+        }
+    }
+
+    /// The folder of the Windows x86_64 binary under `binaries/`.
+    pub fn windows_platform(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "win64",
+            FmiVersion::V3 => "x86_64-windows",
         }
     }
 }
@@ -425,6 +438,8 @@ pub struct Archive {
     pub fmi: FmiVersion,
     /// The hydrofmu shared library's bytes ([`read_binary`]).
     pub binary: Vec<u8>,
+    /// The Windows x86_64 DLL's bytes, built from the same sources (`tools/build-windows.sh`).
+    pub binary_windows: Option<Vec<u8>>,
     /// The scene's documentation, when a scene computed the network.
     pub scene: Option<SceneDocumentation>,
 }
@@ -446,6 +461,8 @@ pub struct Packed {
     pub osp_description: String,
     /// The text of [`SCENE_FILE`], when there is one.
     pub scene: Option<String>,
+    /// The platforms the archive carries a binary for (folders under `binaries/`).
+    pub platforms: Vec<String>,
 }
 
 impl Packed {
@@ -511,6 +528,7 @@ impl Archive {
             model_identifier: model_identifier.to_string(),
             fmi: FmiVersion::V2,
             binary,
+            binary_windows: None,
             scene: None,
         }
     }
@@ -622,13 +640,21 @@ impl Archive {
             html = before_body_end(html, &section);
         }
 
-        let platform = self.fmi.platform();
-        let mut entries: Vec<(String, Vec<u8>)> = vec![
-            ("modelDescription.xml".into(), description.into_bytes()),
-            (
-                format!("binaries/{platform}/{}.so", self.model_identifier),
-                self.binary.clone(),
-            ),
+        let id = &self.model_identifier;
+        let mut binaries = vec![(self.fmi.platform(), format!("{id}.so"), &self.binary)];
+        if let Some(dll) = &self.binary_windows {
+            if !dll.starts_with(WINDOWS_BINARY_MAGIC) {
+                return Err("the Windows binary is not a DLL (no MZ header)".into());
+            }
+            binaries.push((self.fmi.windows_platform(), format!("{id}.dll"), dll));
+        }
+        let platforms = binaries.iter().map(|(p, ..)| p.to_string()).collect();
+        let mut entries: Vec<(String, Vec<u8>)> =
+            vec![("modelDescription.xml".into(), description.into_bytes())];
+        for (platform, file, bytes) in binaries {
+            entries.push((format!("binaries/{platform}/{file}"), bytes.clone()));
+        }
+        entries.extend([
             (
                 format!("resources/{}", Resources::NETWORK_FILE),
                 resources.network_xml.clone().into_bytes(),
@@ -637,7 +663,7 @@ impl Archive {
                 format!("resources/{}", Resources::OPTIONS_FILE),
                 resources.options_xml.clone().into_bytes(),
             ),
-        ];
+        ]);
         let optional = [
             (Resources::HULL_FILE, &resources.hull_xml),
             (Resources::EXCITATION_FILE, &resources.excitation_csv),
@@ -671,6 +697,7 @@ impl Archive {
             states: model.network_states(),
             osp_description,
             scene: scene_entry,
+            platforms,
         })
     }
 }

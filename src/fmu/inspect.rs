@@ -41,6 +41,8 @@ pub struct Inspection {
     /// A ship's cross-flow strips (`resources/crossflow.csv`, `crossflow.drag_scale`): their
     /// count, sway `C_D` range and lateral area.
     pub crossflow: Option<String>,
+    /// The platforms with a binary: the folders under `binaries/`, in archive order.
+    pub platforms: Vec<String>,
     /// Archive entries.
     pub entries: Vec<String>,
     /// The scene report, when a scene or a fit computed the network.
@@ -52,6 +54,7 @@ impl fmt::Display for Inspection {
         writeln!(f, "model             {}", self.model_name)?;
         writeln!(f, "FMI version       {}", self.fmi_version)?;
         writeln!(f, "modelIdentifier   {}", self.model_identifier)?;
+        writeln!(f, "platforms         {}", self.platforms.join(", "))?;
         writeln!(
             f,
             "GUID              {} ({})",
@@ -147,6 +150,23 @@ pub fn inspect(path: &Path) -> Result<Inspection, ArchiveError> {
     inspect_archive(path).map_err(|e| ArchiveError(format!("{}: {e}", path.display())))
 }
 
+/// The folders under `binaries/` that hold a file, each once, in the order of `entries`.
+fn platforms(entries: &[String]) -> Vec<String> {
+    let mut found: Vec<String> = Vec::new();
+    for entry in entries {
+        let Some((platform, file)) = entry
+            .strip_prefix("binaries/")
+            .and_then(|rest| rest.split_once('/'))
+        else {
+            continue;
+        };
+        if !file.is_empty() && !found.iter().any(|p| p == platform) {
+            found.push(platform.to_string());
+        }
+    }
+    found
+}
+
 fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) && path.exists() {
         return Err(ArchiveError(
@@ -218,6 +238,7 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
             .viscous()
             .and_then(|v| v.crossflow())
             .map(|c| crate::model::crossflow::describe(c.strips())),
+        platforms: platforms(&entries),
         entries,
         scene,
     };
@@ -265,4 +286,26 @@ fn inspect_archive(path: &Path) -> Result<Inspection, ArchiveError> {
         )));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::platforms;
+
+    #[test]
+    fn platforms_are_the_binaries_folders_in_archive_order() {
+        let entries: Vec<String> = [
+            "modelDescription.xml",
+            "binaries/linux64/M.so",
+            "binaries/win64/M.dll",
+            "binaries/win64/extra.txt",
+            "binaries/empty/",
+            "resources/binaries/x/y",
+            "resources/network.xml",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(platforms(&entries), ["linux64", "win64"]);
+        assert!(platforms(&entries[..1]).is_empty());
+    }
 }
