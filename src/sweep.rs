@@ -339,6 +339,20 @@ impl Solver {
     /// [`MAX_EXTRAPOLATION_LEVELS`]; a coarsest mesh below 4 panels (checked before any
     /// mesh is made).
     pub fn new(hull: &Hull, panels: &PanelParams, levels: usize) -> Result<Self, SweepError> {
+        Self::with_depth(hull, panels, levels, WaterDepth::Infinite)
+    }
+
+    /// As [`Solver::new`] in water of depth `depth` ([`Problem::with_depth`]: a wave solve's
+    /// wavenumber is then `nu = omega^2/g`).
+    ///
+    /// # Errors
+    /// As [`Solver::new`]; a hull reaching the bottom ([`BemError::BelowBottom`]).
+    pub fn with_depth(
+        hull: &Hull,
+        panels: &PanelParams,
+        levels: usize,
+        depth: WaterDepth,
+    ) -> Result<Self, SweepError> {
         check_levels(panels, levels)?;
         // Every level keeps the vertices the coarsest one has room for.
         let coarsest = panels.body_panels >> (levels - 1);
@@ -351,7 +365,7 @@ impl Solver {
                     ..*panels
                 };
                 let mesh = panels::discretize(hull, &params).map_err(SweepError::Mesh)?;
-                Problem::new(mesh).map_err(SweepError::Problem)
+                Problem::with_depth(mesh, depth).map_err(SweepError::Problem)
             })
             .collect::<Result<Vec<_>, _>>()?;
         // The finest mesh decides for every level, so that all levels solve one problem.
