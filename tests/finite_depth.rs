@@ -262,3 +262,43 @@ fn bad_depths_and_hulls_on_the_bottom_are_refused_by_name() {
         Some(BemError::BelowBottom { .. })
     ));
 }
+
+#[test]
+fn long_waves_in_finite_depth_give_the_hydrostatic_force() {
+    // As k -> 0 the incident wave's horizontal velocity tends to a sqrt(g/h), but the sway
+    // force still vanishes (like k, k ~ omega / sqrt(gh)): x_j -> integral n_j ds.
+    let hull = Hull::semicircle(1.0).unwrap();
+    let solver = solver(&hull, 128, 2, WaterDepth::Finite(2.0));
+    let force = |nu: f64| solve(&solver, nu).wave_forces.unwrap().direct;
+    let (low, lower) = (force(1e-4), force(1e-6));
+    assert!(
+        (lower[(1, 0)] - Complex64::new(2.0, 0.0)).norm() < 1e-2,
+        "{}",
+        lower[(1, 0)]
+    );
+    let fall = lower[(0, 0)].norm() / low[(0, 0)].norm();
+    assert!((fall - 0.1).abs() < 0.02, "sway falls by {fall} for k / 10");
+}
+
+#[test]
+fn hull_files_carry_the_water_depth() {
+    let file = |depth: &str| {
+        format!(
+            "<hull name=\"box\" half_beam=\"1\"{depth}><contour><point x=\"1\" y=\"0\"/>\
+             <point x=\"1\" y=\"-1\"/><point x=\"-1\" y=\"-1\"/><point x=\"-1\" y=\"0\"/>\
+             </contour><rigid name=\"heave\" kind=\"heave\"/></hull>"
+        )
+    };
+    let hull = Hull::from_xml_str(&file(" depth=\"3.5\""), "box.xml").unwrap();
+    assert_eq!(hull.water_depth(), WaterDepth::Finite(3.5));
+    let again = Hull::from_xml_str(&hull.to_xml_string(), "again.xml").unwrap();
+    assert_eq!(again.water_depth(), WaterDepth::Finite(3.5));
+    let deep = Hull::from_xml_str(&file(""), "box.xml").unwrap();
+    assert_eq!(deep.water_depth(), WaterDepth::Infinite);
+    for bad in ["0", "-2", "x", "inf"] {
+        let error = Hull::from_xml_str(&file(&format!(" depth=\"{bad}\"")), "box.xml")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("depth"), "{bad}: {error}");
+    }
+}
