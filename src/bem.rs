@@ -62,14 +62,17 @@
 //! frequencies and always use the plain method. [`IrregularFrequencies::Keep`] is Schilder et al.'s
 //! plain method.
 
+mod depth;
 mod drift;
 mod linear;
 
 pub use drift::Drift;
 use linear::{mirror_map, solve_dense, solve_mirrored};
 
+use crate::green::finite_depth::DepthError;
 use crate::green::{FreeSurface, GreenError, GreenFunction, PanelIntegral, PanelPairs};
 use crate::panels::{Mesh, Panel};
+use crate::units::WaterDepth;
 use crate::xml::{format_number, Notation};
 use faer::complex_native::c64;
 use faer::Mat;
@@ -179,6 +182,16 @@ pub enum BemError {
         /// The free-surface condition of the solve.
         surface: FreeSurface,
     },
+    /// The finite-depth Green function refused the depth or the frequency (for example a
+    /// frequency where the dispersion relation cannot be solved).
+    Depth(DepthError),
+    /// A mesh node lies on or below the bottom.
+    BelowBottom {
+        /// Water depth (m).
+        depth: f64,
+        /// The lowest node's `y` (m).
+        keel: f64,
+    },
     /// Every level was finite but their extrapolation to zero panel size is not (see
     /// [`crate::sweep::Solver`]).
     NonFiniteExtrapolation {
@@ -206,6 +219,14 @@ impl fmt::Display for BemError {
         f.write_str("panel method: ")?;
         match self {
             BemError::Green(e) => write!(f, "{e}"),
+            BemError::Depth(e) => write!(f, "finite depth: {e}"),
+            BemError::BelowBottom { depth, keel } => write!(
+                f,
+                "the hull reaches the bottom: keel at y = {} m, water depth {} m (the hull \
+                 must lie above y = -depth)",
+                format_number(*keel, Notation::Plain),
+                format_number(*depth, Notation::Plain)
+            ),
             BemError::Singular {
                 surface,
                 body_panels,
@@ -234,6 +255,7 @@ impl std::error::Error for BemError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             BemError::Green(e) => Some(e),
+            BemError::Depth(e) => Some(e),
             _ => None,
         }
     }
@@ -287,6 +309,8 @@ pub struct Problem {
     dirichlet: Influence,
     /// Prepared for many wave frequencies (`None`: pair by pair).
     wave_pairs: Option<WavePairs>,
+    /// The finite-depth parts (`None`: deep water).
+    depth: Option<depth::DepthParts>,
 }
 
 /// The (collocation point, panel) pairs a wave solve evaluates, with their
@@ -430,7 +454,42 @@ impl Problem {
             mirror,
             dirichlet,
             wave_pairs,
+            depth: None,
         })
+    }
+
+    /// As [`Problem::new`] in water of depth `depth`. In finite depth a wave solve's
+    /// [`FreeSurface::Wave`] wavenumber is `nu = omega^2/g` (the deep-water wavenumber of the
+    /// frequency): the propagating wavenumber solves `nu = k tanh kh`. The limits are those
+    /// of the strip (see [`crate::green::finite_depth`]).
+    ///
+    /// # Errors
+    /// [`BemError::BelowBottom`] when a node of the mesh lies at or below `y = -depth`.
+    pub fn with_depth(mesh: Mesh, depth: WaterDepth) -> Result<Self, BemError> {
+        let WaterDepth::Finite(h) = depth else {
+            return Self::new(mesh);
+        };
+        if !(h.is_finite() && h > 0.0) {
+            return Err(BemError::Depth(DepthError::InvalidDepth(h)));
+        }
+        let keel = mesh
+            .body
+            .iter()
+            .flat_map(|p| [p.start[1], p.end[1]])
+            .fold(0.0, f64::min);
+        if keel <= -h {
+            return Err(BemError::BelowBottom { depth: h, keel });
+        }
+        let mut problem = Self::new(mesh)?;
+        problem.depth = Some(depth::DepthParts::new(&problem.mesh, h));
+        Ok(problem)
+    }
+
+    /// The water depth.
+    pub fn water_depth(&self) -> WaterDepth {
+        self.depth
+            .as_ref()
+            .map_or(WaterDepth::Infinite, |d| WaterDepth::Finite(d.depth()))
     }
 
     /// The mesh.
@@ -484,7 +543,6 @@ impl Problem {
         transverse: &[f64],
     ) -> Result<RadiationSolution, BemError> {
         let mesh = &self.mesh;
-        let green = GreenFunction::new(surface)?;
         let use_lid = matches!(surface, FreeSurface::Wave { .. })
             && irregular == IrregularFrequencies::RemoveWithLid
             && !mesh.lid.is_empty();
@@ -492,9 +550,49 @@ impl Problem {
         let lid_count = if use_lid { mesh.lid.len() } else { 0 };
         let unknowns = body_count + lid_count;
         let start = Instant::now();
+        let (influence, propagating) = self.influence_for(surface, use_lid)?;
+        let Influence { system, potential } = influence;
+        let influence_time = start.elapsed();
+        let waves = match surface {
+            FreeSurface::Wave { wavenumber } if !transverse.is_empty() => Some((
+                propagating.unwrap_or(wavenumber),
+                transverse,
+                self.depth.as_ref().map(|d| d.depth()),
+            )),
+            _ => None,
+        };
+        // The mirror map serves the solve when it maps the unknowns in use onto themselves.
+        let mirror = self
+            .mirror
+            .as_deref()
+            .filter(|m| m[..unknowns].iter().all(|&q| q < unknowns));
+        solve_system(
+            mesh,
+            surface,
+            (system, mirror),
+            potential,
+            influence_time,
+            lid_count,
+            waves,
+        )
+    }
+}
+
+impl Problem {
+    /// The influence of the unknowns in use (the lid's with `use_lid`) for `surface`, and in
+    /// finite depth at a wave frequency the propagating wavenumber.
+    fn influence_for(
+        &self,
+        surface: FreeSurface,
+        use_lid: bool,
+    ) -> Result<(Influence, Option<f64>), BemError> {
+        let mesh = &self.mesh;
+        let green = GreenFunction::new(surface)?;
+        let body_count = mesh.body.len();
+        let unknowns = body_count + if use_lid { mesh.lid.len() } else { 0 };
         let cached = &self.dirichlet;
         let mirror = self.mirror.as_deref();
-        let Influence { system, potential } = match surface {
+        let mut influence = match surface {
             FreeSurface::Dirichlet => Influence {
                 system: cached.system.submatrix(0, 0, unknowns, unknowns).to_owned(),
                 potential: cached
@@ -526,8 +624,7 @@ impl Problem {
                         influence(mesh, mirror, unknowns, Singular::Image, &computed)
                     }
                 };
-                wave.system += cached.system.submatrix(0, 0, unknowns, unknowns);
-                wave.potential += cached.potential.submatrix(0, 0, body_count, unknowns);
+                depth::add(&mut wave, cached);
                 wave
             }
             FreeSurface::RigidLid => influence(
@@ -541,24 +638,13 @@ impl Problem {
                 },
             ),
         };
-        let influence_time = start.elapsed();
-        let waves = match surface {
-            FreeSurface::Wave { wavenumber } if !transverse.is_empty() => {
-                Some((wavenumber, transverse))
-            }
-            _ => None,
+        let propagating = match &self.depth {
+            Some(parts) => parts
+                .add_to(mesh, surface, &mut influence)
+                .map_err(BemError::Depth)?,
+            None => None,
         };
-        // The mirror map serves the solve when it maps the unknowns in use onto themselves.
-        let mirror = mirror.filter(|m| m[..unknowns].iter().all(|&q| q < unknowns));
-        solve_system(
-            mesh,
-            surface,
-            (system, mirror),
-            potential,
-            influence_time,
-            lid_count,
-            waves,
-        )
+        Ok((influence, propagating))
     }
 }
 
@@ -700,14 +786,18 @@ fn solve_system(
     potential: Mat<c64>,
     influence_time: Duration,
     lid_count: usize,
-    waves: Option<(f64, &[f64])>,
+    waves: Option<(f64, &[f64], Option<f64>)>,
 ) -> Result<RadiationSolution, BemError> {
     let body_count = mesh.body.len();
     let unknowns = system.nrows();
     let dof_count = mesh.dof_names.len();
     let start = Instant::now();
     let incident: Vec<Vec<(Complex64, Complex64)>> = match waves {
-        Some((k, cosines)) => cosines.iter().map(|&c| incident_wave(mesh, k, c)).collect(),
+        Some((k, cosines, None)) => cosines.iter().map(|&c| incident_wave(mesh, k, c)).collect(),
+        Some((k, cosines, Some(h))) => cosines
+            .iter()
+            .map(|&c| depth::incident_wave(mesh, k, h, c))
+            .collect(),
         None => Vec::new(),
     };
     let mut rhs = Mat::<c64>::zeros(unknowns, dof_count + incident.len());
@@ -781,7 +871,8 @@ fn solve_system(
                 forces.haskind[(j, h)] = fk - haskind_term;
             }
         }
-        if let Some((k, cosines)) = waves {
+        // The mean drift force: deep water only.
+        if let Some((k, cosines, None)) = waves {
             if cosines.iter().all(|c| c.abs() == 1.0) && body_count >= 3 {
                 let body_potential: Vec<Vec<Complex64>> = (0..headings)
                     .map(|h| {

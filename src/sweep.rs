@@ -35,7 +35,7 @@ pub use table::ExcitationPart;
 use crate::bem::{
     BemError, IrregularFrequencies, Problem, RadiationSolution, WaveForces, HEADING_COSINES,
 };
-use crate::green::FreeSurface;
+use crate::green::{finite_depth, FreeSurface};
 use crate::hull::Hull;
 use crate::panels::{self, Mesh, PanelError, PanelParams};
 use crate::units::{self, WaterDepth};
@@ -182,17 +182,39 @@ impl SweepParams {
         if self.kr.is_empty() {
             return Err(SweepError::NoFrequencies);
         }
-        if !self.depth.is_infinite() {
-            return Err(SweepError::Depth {
-                depth: self.depth,
-                reason: "the section sweep solves deep water only in this version".to_string(),
-            });
+        if let WaterDepth::Finite(h) = self.depth {
+            let refuse = |reason: String| {
+                Err(SweepError::Depth {
+                    depth: self.depth,
+                    reason,
+                })
+            };
+            if !(h.is_finite() && h > 0.0) {
+                return refuse("must be finite and > 0 (`inf` for deep water)".to_string());
+            }
+            let keel = keel(hull);
+            if keel <= -h {
+                return refuse(format!(
+                    "the hull reaches the bottom: its keel is at y = {} m, the bottom at y = -{} m",
+                    readable(keel),
+                    readable(h)
+                ));
+            }
         }
         if let Some(bad) = self.kr.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
             return Err(SweepError::Frequency(*bad));
         }
         check_levels(&self.panels, self.extrapolation_levels)
     }
+}
+
+/// The lowest `y` of the hull's contour (m): its nodes and 4097 points along it.
+fn keel(hull: &Hull) -> f64 {
+    let samples = (0..=4096).map(|i| f64::from(i) / 4096.0);
+    samples
+        .chain(hull.breakpoints())
+        .map(|s| hull.point(s)[1])
+        .fold(0.0, f64::min)
 }
 
 /// The panel counts of every level: 1 ..= [`MAX_EXTRAPOLATION_LEVELS`] levels, the finest
@@ -339,6 +361,20 @@ impl Solver {
     /// [`MAX_EXTRAPOLATION_LEVELS`]; a coarsest mesh below 4 panels (checked before any
     /// mesh is made).
     pub fn new(hull: &Hull, panels: &PanelParams, levels: usize) -> Result<Self, SweepError> {
+        Self::with_depth(hull, panels, levels, WaterDepth::Infinite)
+    }
+
+    /// As [`Solver::new`] in water of depth `depth` ([`Problem::with_depth`]: a wave solve's
+    /// wavenumber is then `nu = omega^2/g`).
+    ///
+    /// # Errors
+    /// As [`Solver::new`]; a hull reaching the bottom ([`BemError::BelowBottom`]).
+    pub fn with_depth(
+        hull: &Hull,
+        panels: &PanelParams,
+        levels: usize,
+        depth: WaterDepth,
+    ) -> Result<Self, SweepError> {
         check_levels(panels, levels)?;
         // Every level keeps the vertices the coarsest one has room for.
         let coarsest = panels.body_panels >> (levels - 1);
@@ -351,7 +387,7 @@ impl Solver {
                     ..*panels
                 };
                 let mesh = panels::discretize(hull, &params).map_err(SweepError::Mesh)?;
-                Problem::new(mesh).map_err(SweepError::Problem)
+                Problem::with_depth(mesh, depth).map_err(SweepError::Problem)
             })
             .collect::<Result<Vec<_>, _>>()?;
         // The finest mesh decides for every level, so that all levels solve one problem.
@@ -556,6 +592,8 @@ pub struct SweepResult {
     pub dof_names: Vec<String>,
     /// Reference half-beam R (m).
     pub reference_half_beam: f64,
+    /// The water depth (tables: `# depth: h/R`, `inf` for deep water).
+    pub depth: WaterDepth,
     /// The frequencies solved successfully, ascending.
     pub kr: Vec<f64>,
     /// `A~(kR) / (rho pi R^2)` at each entry of `kr`.
@@ -600,7 +638,12 @@ pub fn run(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepResult, SweepError> {
     params.validate(hull)?;
-    let solver = Solver::new(hull, &params.panels, params.extrapolation_levels)?;
+    let solver = Solver::with_depth(
+        hull,
+        &params.panels,
+        params.extrapolation_levels,
+        params.depth,
+    )?;
     let mesh = solver.mesh();
     let radius = hull.reference_half_beam();
     let scale = units::added_mass_scale(1.0, radius);
@@ -665,6 +708,7 @@ pub fn run(
         depth_over_radius: hull.circle_depth_ratio(),
         dof_names: mesh.dof_names.clone(),
         reference_half_beam: radius,
+        depth: params.depth,
         kr: Vec::with_capacity(total),
         added_mass: Vec::with_capacity(total),
         reciprocity_residual: Vec::with_capacity(total),
@@ -731,9 +775,12 @@ pub fn run(
                     result.excitation.push(forces);
                 }
                 if coarse.is_none() {
-                    coarse = mesh
-                        .wavelength_warning(units::wavenumber_from_kr(kr, radius))
-                        .map(|w| (kr, w));
+                    let nu = units::wavenumber_from_kr(kr, radius);
+                    let k = match params.depth {
+                        WaterDepth::Finite(h) => finite_depth::wavenumber(nu, h).unwrap_or(nu),
+                        WaterDepth::Infinite => nu,
+                    };
+                    coarse = mesh.wavelength_warning(k).map(|w| (kr, w));
                 }
             }
             Err(err) => result.failures.push((kr, err.to_string())),

@@ -10,6 +10,7 @@ use hydrofmu::fmu;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::PanelParams;
 use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::units::WaterDepth;
 use std::path::PathBuf;
 
 /// The hull and the sweep settings, shared by `fmu-pack sweep` and `fmu-pack fit`.
@@ -23,6 +24,15 @@ pub struct HullSweepArgs {
     /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
     #[arg(long = "depth", value_name = "H_OVER_R")]
     pub depth: Option<f64>,
+    /// Sections only: the water depth in metres (`inf`: deep water, the default), flat
+    /// bottom; overrides a hull file's `depth` attribute (docs/FINITE_DEPTH.md). Not the
+    /// circle's `--depth`.
+    #[arg(
+        long = "water-depth",
+        value_name = "METRES",
+        allow_hyphen_values = true
+    )]
+    pub water_depth: Option<f64>,
     /// Radius R of the built-in hulls, in metres.
     #[arg(long, default_value_t = 1.0)]
     pub radius: f64,
@@ -82,6 +92,18 @@ impl HullSweepArgs {
             ("--frequency-column", self.frequency_column.is_some()),
             ("--conjugate", self.conjugate),
         ];
+        if self.water_depth.is_some()
+            && matches!(
+                hydrofmu::source::Source::from_argument(&self.hull),
+                Ok(hydrofmu::source::Source::ShipFile(_))
+            )
+        {
+            return Err(
+                "--water-depth applies to a section; a ship's strip theory solves deep water \
+                 only in this version"
+                    .to_string(),
+            );
+        }
         match given.iter().find(|(_, g)| *g) {
             Some((flag, _)) => Err(format!(
                 "{flag} applies to an imported database (NAME.1), not to '{}'",
@@ -124,7 +146,11 @@ impl HullSweepArgs {
                 .unwrap_or(SweepParams::default().extrapolation_levels),
             threads: self.threads,
             excitation: true,
-            ..SweepParams::default()
+            depth: match self.water_depth {
+                Some(metres) => WaterDepth::new(metres)
+                    .map_err(|e| format!("--water-depth {metres}: {e} (`inf` for deep water)"))?,
+                None => hull.water_depth(),
+            },
         };
         Ok((hull, params))
     }

@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
     let refused = [
         ("--depth", args.depth.is_some()),
+        ("--water-depth", args.water_depth.is_some()),
         ("--panels", args.panels.is_some()),
         ("--levels", args.levels.is_some()),
         ("--omega", args.omega.is_some()),

@@ -71,8 +71,11 @@
 //! J. N. Newman, "Algorithms for the free-surface Green function", J. Eng. Math. 19 (1985).
 
 mod near;
+mod strip;
 #[cfg(test)]
 mod tests;
+
+pub use strip::{limit_remainder, limit_remainder_integral, RemainderIntegrals};
 
 use super::panel::Panel;
 use super::{FreeSurface, GreenFunction, PanelIntegral, Point};
@@ -311,18 +314,10 @@ impl FiniteDepthGreen {
         if len == 0.0 {
             return out;
         }
-        // ln r2 in the frame mirrored in the bottom (y' = -(y + h)): there the bottom image is
-        // the image in y' = 0 and the fluid lies below; the mirror swaps the panel's sides.
-        let mirror = |p: Point| [p[0], -(p[1] + self.depth)];
-        if let Some((panel, zf)) = Panel::new(mirror(field), mirror(b), mirror(a)) {
-            let (sum, d_sum) = panel.rankine(zf, 1.0);
-            let (difference, d_difference) = panel.rankine(zf, -1.0);
-            let (log, d_log) = (0.5 * (sum - difference), 0.5 * (d_sum - d_difference));
-            out.potential.re += log - len * (2.0 * self.depth).ln() / (2.0 * PI);
-            out.gradient[0].re += d_log.re;
-            // d/dy = -d/dy' = +Im of the complex derivative.
-            out.gradient[1].re += d_log.im;
-        }
+        let log = bottom_image_integral(self.depth, field, a, b);
+        out.potential.re += log.potential.re - len * (2.0 * self.depth).ln() / (2.0 * PI);
+        out.gradient[0].re += log.gradient[0].re;
+        out.gradient[1].re += log.gradient[1].re;
         let half = 0.5 * len;
         for &(t, w) in &self.panel_rule {
             let s = 0.5 * (1.0 + t);
@@ -423,6 +418,29 @@ impl FiniteDepthGreen {
         }
         (value, [d_x, d_y])
     }
+}
+
+/// `int (1/2pi) ln r2 ds0` over the panel `a -> b` and its gradient with respect to `field`,
+/// `r2` the distance from `field` to the source's image in the bottom `y = -h` (real).
+pub fn bottom_image_integral(depth: f64, field: Point, a: Point, b: Point) -> PanelIntegral {
+    let zero = Complex64::new(0.0, 0.0);
+    let mut out = PanelIntegral {
+        potential: zero,
+        gradient: [zero, zero],
+    };
+    // In the frame mirrored in the bottom (y' = -(y + h)) the bottom image is the image in
+    // y' = 0 and the fluid lies below; the mirror swaps the panel's sides.
+    let mirror = |p: Point| [p[0], -(p[1] + depth)];
+    if let Some((panel, zf)) = Panel::new(mirror(field), mirror(b), mirror(a)) {
+        let (sum, d_sum) = panel.rankine(zf, 1.0);
+        let (difference, d_difference) = panel.rankine(zf, -1.0);
+        out.potential.re = 0.5 * (sum - difference);
+        let d_log = 0.5 * (d_sum - d_difference);
+        out.gradient[0].re = d_log.re;
+        // d/dy = -d/dy' = +Im of the complex derivative.
+        out.gradient[1].re = d_log.im;
+    }
+    out
 }
 
 /// Gauss-Legendre `(node, weight)` on `[-1, 1]` (Newton on the Legendre recurrence).

@@ -61,6 +61,7 @@ impl Hull {
             notes: Vec::new(),
             mass: None,
             bilge_keels: None,
+            water_depth: None,
         })
     }
 
@@ -91,6 +92,7 @@ impl Hull {
             notes: Vec::new(),
             mass: None,
             bilge_keels: None,
+            water_depth: None,
         })
     }
 
@@ -130,6 +132,7 @@ impl Hull {
             notes: Vec::new(),
             mass: None,
             bilge_keels: None,
+            water_depth: None,
         })
     }
 }

@@ -61,8 +61,11 @@ impl Hull {
     pub fn to_xml_string(&self) -> String {
         let mut out = String::new();
         out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+        let depth = self
+            .water_depth
+            .map_or(String::new(), |h| format!(" depth=\"{}\"", num(h)));
         out.push_str(&format!(
-            "<hull name=\"{}\" half_beam=\"{}\" units=\"m\" version=\"1\">\n",
+            "<hull name=\"{}\" half_beam=\"{}\" units=\"m\" version=\"1\"{depth}>\n",
             escape(&self.name),
             num(self.half_beam)
         ));
@@ -253,7 +256,23 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
             ));
         }
     }
-    root.only_attributes(&["name", "half_beam", "units", "version"])
+    let water_depth = match root.attribute("depth") {
+        None => None,
+        Some(_) => {
+            let depth = root.required_number("depth").map_err(at)?;
+            if !(depth.is_finite() && depth > 0.0) {
+                return Err(err(
+                    root.line,
+                    format!(
+                        "depth (the water depth, m) must be finite and > 0, got {depth} (leave \
+                         it out for deep water)"
+                    ),
+                ));
+            }
+            Some(depth)
+        }
+    };
+    root.only_attributes(&["name", "half_beam", "units", "version", "depth"])
         .map_err(at)?;
 
     let mut geometry: Option<Geometry> = None;
@@ -655,6 +674,7 @@ fn build_hull(root: &Element, source: &str) -> Result<Hull, HullError> {
         notes,
         mass,
         bilge_keels: keels.map(|(k, _)| k),
+        water_depth,
     })
 }
 

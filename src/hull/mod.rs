@@ -232,6 +232,8 @@ pub struct Hull {
     mass: Option<HullMass>,
     /// The file's `<bilge_keels>` (viscous roll damping only).
     bilge_keels: Option<crate::viscous::BilgeKeels>,
+    /// The file's `depth` attribute: the water depth (m), `None` for deep water.
+    water_depth: Option<f64>,
 }
 
 fn rigid_displacement(kind: RigidKind, reference: Point, p: Point) -> Point {
@@ -272,6 +274,14 @@ impl Hull {
     /// only the viscous roll damping estimate ([`crate::viscous::hull_roll_damping`]).
     pub fn bilge_keels(&self) -> Option<crate::viscous::BilgeKeels> {
         self.bilge_keels
+    }
+
+    /// The water depth of the hull file's `depth` attribute (deep water without one).
+    pub fn water_depth(&self) -> crate::units::WaterDepth {
+        self.water_depth.map_or(
+            crate::units::WaterDepth::Infinite,
+            crate::units::WaterDepth::Finite,
+        )
     }
 
     /// This hull with the DOFs `dofs` (a subset of its own); the moorings of DOFs left out go.

@@ -149,6 +149,7 @@ impl SweepResult {
     /// frequencies in ascending order, each with headings 0 and 180 and every DOF. Frequencies
     /// solved without the drift (oblique waves) are left out.
     pub fn write_drift_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        self.refuse_finite_depth_drift()?;
         self.write_header_with_exponents(out)?;
         writeln!(
             out,
@@ -211,6 +212,7 @@ impl SweepResult {
         body: &str,
         values: &[(f64, DMatrix<f64>)],
     ) -> std::io::Result<()> {
+        self.refuse_finite_depth_drift()?;
         self.write_header_with_exponents(out)?;
         writeln!(
             out,
@@ -244,6 +246,16 @@ impl SweepResult {
         Ok(())
     }
 
+    /// The mean drift force is computed in deep water only: an error in finite depth.
+    fn refuse_finite_depth_drift(&self) -> std::io::Result<()> {
+        match self.depth {
+            crate::units::WaterDepth::Infinite => Ok(()),
+            depth => Err(std::io::Error::other(format!(
+                "the mean drift force is computed in deep water only (water depth {depth})"
+            ))),
+        }
+    }
+
     /// `R^e_j` of every DOF.
     pub(super) fn length_scales(&self) -> Vec<f64> {
         self.length_exponents
@@ -272,6 +284,11 @@ impl SweepResult {
         writeln!(out, "# modes: {}", self.dof_names.join(" "))?;
         writeln!(out, "# convention: exp(+i omega t)")?;
         writeln!(out, "# R: {} m", self.reference_half_beam)?;
+        writeln!(
+            out,
+            "# depth: {}",
+            self.depth.table_value(self.reference_half_beam)
+        )?;
         writeln!(
             out,
             "# panels: {} body, {} lid",

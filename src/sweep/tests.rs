@@ -204,3 +204,78 @@ fn the_drift_table_is_nondimensional_and_mirrors_its_headings() {
         assert!((a[3] - b[3]).abs() <= 1e-9 * scale, "{a:?} {b:?}");
     }
 }
+
+fn small_sweep(depth: WaterDepth) -> SweepParams {
+    SweepParams {
+        kr: vec![0.5, 1.5],
+        panels: PanelParams {
+            body_panels: 32,
+            ..PanelParams::default()
+        },
+        extrapolation_levels: 1,
+        threads: 1,
+        depth,
+        ..SweepParams::default()
+    }
+}
+
+fn table_text(result: &SweepResult, excitation: bool) -> String {
+    let mut text = Vec::new();
+    if excitation {
+        result
+            .write_excitation_csv(&mut text, ExcitationPart::Total)
+            .unwrap();
+    } else {
+        result.write_csv(&mut text).unwrap();
+    }
+    String::from_utf8(text).unwrap()
+}
+
+#[test]
+fn every_table_records_the_water_depth() {
+    let hull = Hull::semicircle(2.0).unwrap();
+    let deep = run(&hull, &small_sweep(WaterDepth::Infinite), &|_, _| {}).unwrap();
+    let finite = run(&hull, &small_sweep(WaterDepth::Finite(5.0)), &|_, _| {}).unwrap();
+    for excitation in [false, true] {
+        let text = table_text(&deep, excitation);
+        assert!(text.contains("# R: 2 m\n# depth: inf\n"), "{text}");
+        let text = table_text(&finite, excitation);
+        assert!(text.contains("# R: 2 m\n# depth: 2.5\n"), "{text}");
+    }
+    // The depth changes the coefficients; A(0) leaves heave-heave out as in deep water.
+    let d = (deep.added_mass[0][(1, 1)] - finite.added_mass[0][(1, 1)]).norm();
+    assert!(d > 1e-3 * deep.added_mass[0][(1, 1)].norm());
+    assert!(finite.added_mass_zero[(1, 1)].is_none());
+    assert!(finite.added_mass_zero[(0, 0)].is_some());
+    // No drift in finite depth: refused by name, not written empty.
+    let mut text = Vec::new();
+    let error = finite.write_drift_csv(&mut text).unwrap_err();
+    assert!(error.to_string().contains("deep water only"), "{error}");
+    assert!(deep.write_drift_csv(&mut Vec::new()).is_ok());
+}
+
+#[test]
+fn a_hull_on_the_bottom_and_a_bad_depth_are_refused_by_name() {
+    let hull = Hull::semicircle(2.0).unwrap();
+    for depth in [2.0, 1.5] {
+        let error = small_sweep(WaterDepth::Finite(depth))
+            .validate(&hull)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("bottom") && error.contains("keel"),
+            "{error}"
+        );
+        assert!(error.contains(&format!("{depth}")), "{error}");
+    }
+    assert!(small_sweep(WaterDepth::Finite(2.01))
+        .validate(&hull)
+        .is_ok());
+    for depth in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let error = small_sweep(WaterDepth::Finite(depth))
+            .validate(&hull)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("finite and > 0"), "{error}");
+    }
+}

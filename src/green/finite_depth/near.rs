@@ -84,7 +84,7 @@ impl FiniteDepthGreen {
     /// (each within `0.3` radius of the centre), else one centred on each with a radius of at
     /// most a third of their distance; radii at most `min(centre/2, 1/2h)`. None when
     /// `k0 d > POLES_BEYOND`.
-    fn arcs(&self, decay: f64) -> [Option<(f64, f64)>; 2] {
+    pub(super) fn arcs(&self, decay: f64) -> [Option<(f64, f64)>; 2] {
         let (nu, k0, h) = (self.nu, self.k0, self.depth);
         if k0 * decay > POLES_BEYOND {
             return [None, None];
