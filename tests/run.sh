@@ -20,6 +20,11 @@ if ((${#missing[@]})); then
   fi
 fi
 
+step "Windows DLL, built in the background (tools/build-windows.sh; log: target/build-windows.log)"
+mkdir -p target
+bash tools/build-windows.sh >target/build-windows.log 2>&1 &
+windows_build=$!
+
 step "Python virtual environment (.venv)"
 if [[ ! -x .venv/bin/python ]]; then
   python3 -m venv .venv
@@ -51,5 +56,14 @@ cargo run --release -q -p fmu-pack --example performance -- --quick --out target
 cargo run --release -q -p fmu-pack --example drift -- --quick --out target/reports
 cargo run --release -q -p fmu-pack --example viscous -- --quick --out target/reports
 
-step "pytest (real FMU archives, built from the current source)"
+step "Windows DLL: the FMI 2.0 and 3.0 functions under wine64 against the Linux library (docs/WINDOWS.md)"
+if ! wait "$windows_build"; then
+  cat target/build-windows.log
+  echo "the Windows build failed (log above)" >&2
+  exit 1
+fi
+tail -n 4 target/build-windows.log
+bash tests/windows/run.sh
+
+step "pytest (real FMU archives, built from the current source; they carry the Windows DLL too)"
 HYDROFMU_ROOT="$root" .venv/bin/python -m pytest -q tests/python
