@@ -14,11 +14,17 @@ measured; every other coefficient within 0.015) sets the bound, twice over, for 
 depths, where the depth itself moves the same coefficients by 0.1 .. 0.16 at h/R = 2 (heave
 damping 0.56 -> 0.72 at kR = 0.3): a section solved in deep water would fail.
 
-Where kh > 3 (kh = kR h/R) the 2D depth effect is below 1e-3 and the comparison says nothing more than deep
-water's; there Capytaine 3.0's finite-depth kernel departs from its own deep-water result (heave
-damping 0.074 at h/R = 10 and 0.064 at h/R = 4 against 0.095 in deep water at kR = 1.5; its
-HAMS kernel gives 0.087 and 0.085), so those points are checked against our deep-water table
-only. Capytaine alone: about 30 s on 2 cores.
+Where kh > 5 (kh = kR h/R) the incident wave no longer feels the bottom, but a section's near
+field still does: its images in the bottom, seen through a free surface that acts as phi = 0
+at their length scale h, change the coefficients like (R/h)^2 (A_inf too; heave, with its net
+flux, most). Those points are checked against our deep-water table with that bound.
+
+Capytaine 3.0's finite-depth kernel is left out at kR = 1.5 and where kh > 3: there its heave
+damping departs from its own deep-water value by far more than any bottom effect (at kR = 1.5:
+0.074 at h/R = 10, 0.064 at h/R = 4 and 0.067 at h/R = 2 against 0.095 in deep water; its HAMS
+kernel gives 0.087 and 0.085), while ours moves by 0.4 % at h/R = 10 (A_inf by 0.8 %) and
++26 % at h/R = 2. The two disagree there; the peer cannot settle it. Capytaine alone: about
+30 s on 2 cores.
 """
 import math
 import subprocess
@@ -34,9 +40,10 @@ DEEP_MARGIN = 2.0
 # Measured deep-water 2D-vs-3D differences (largest 0.032, heave added mass at kR = 0.3);
 # the test refuses a setup whose deep-water agreement is worse than this.
 DEEP_LIMIT = 0.05
-# Compared with Capytaine where kh = kR h/R <= 3 (with slack for rounding): h/R = 10 at
-# kR = 0.3, h/R = 4 at 0.3 and 0.52, h/R = 2 at all four.
+# Compared with Capytaine where kh = kR h/R <= 3 (with slack for rounding) and kR < 1.5: h/R =
+# 10 at kR = 0.3, h/R = 4 at 0.3 and 0.52, h/R = 2 at 0.3, 0.52 and 0.91 (module docs).
 SMALL_KH = 3.01
+LARGEST_KR = 1.0
 
 
 def sweep(fmu_pack_binary, tmp_path, depth):
@@ -113,7 +120,7 @@ def test_finite_depth_matches_as_well_as_deep_water(ours, theirs, depth):
     tolerance = DEEP_MARGIN * deep_difference(ours, theirs)
     compared = 0
     for (dof, kr), pair in ours[depth].items():
-        if kr * depth > SMALL_KH:
+        if kr * depth > SMALL_KH or kr > LARGEST_KR:
             continue
         compared += 1
         for what, o, t, o_deep, t_deep in zip(("a", "b"), pair, theirs[depth][(dof, kr)],
@@ -135,17 +142,23 @@ def test_the_depth_changes_the_coefficients_where_kh_is_small(ours):
         assert moved > 0.08, (dof, shallow[(dof, 0.3)], deep[(dof, 0.3)])
 
 
-def test_where_kh_is_large_the_section_is_in_deep_water(ours):
-    # kh > 5 (h/R = 10 from kR = 0.52, h/R = 4 at kR = 1.5): the 2D coefficients within 1e-3
-    # of deep water's.
+def test_where_kh_is_large_the_bottom_acts_through_the_near_field_only(ours):
+    # kh > 5 (h/R = 10 from kR = 0.52, h/R = 4 at kR = 1.5): within 0.3 (R/h)^2 of deep water
+    # (measured: at most 0.27 (R/h)^2, heave at h/R = 10, kR = 0.52; sway within 0.05 (R/h)^2).
     checked = 0
     for depth in (10.0, 4.0, 2.0):
         for (dof, kr), pair in ours[depth].items():
             if kr * depth > 5.0:
                 checked += 1
                 for value, deep in zip(pair, ours[math.inf][(dof, kr)]):
-                    assert abs(value - deep) < 1e-3, (depth, dof, kr)
+                    assert abs(value - deep) <= 0.3 / depth**2, (depth, dof, kr, value, deep)
     assert checked == 8
+    # Heave at kR = 1.5 approaches deep water like (R/h)^2: from h/R = 4 to 10 the difference
+    # falls by 7.4 (measured; (10/4)^2 = 6.25).
+    deep = ours[math.inf][("heave", 1.5)]
+    far, near = (max(abs(v - d) for v, d in zip(ours[h][("heave", 1.5)], deep))
+                 for h in (10.0, 4.0))
+    assert 5.0 < near / far < 10.0, (near, far)
 
 
 def test_the_tables_say_their_depth(ours):
@@ -196,6 +209,8 @@ def test_a_master_may_set_depth_only_to_its_packed_value(finite_depth_fmu):
                       modelIdentifier=md.coSimulation.modelIdentifier, instanceName="h")
     slave.instantiate(loggingOn=False)
     slave.setReal([98], [3.0])
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
     assert slave.getReal([98]) == [3.0]
     # Refused (fmi2Error: the message names depth, 5 m and the packed 3 m).
     with pytest.raises(FMICallException):
