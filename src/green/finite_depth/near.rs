@@ -24,31 +24,8 @@ impl FiniteDepthGreen {
         let decay = (2.0 * h - (y - y0).abs()).max(h);
         let upper = UPPER / decay;
         let arcs = self.arcs(decay);
+        let breaks = self.break_points(upper, &arcs);
         let arcs = arcs.iter().flatten();
-        // Break points: 0, 2/h, 4/h, 8/h, ... below `upper`, `upper`, the arcs' ends, and
-        // about each arc `centre +- 2^j radius` (a pole never nearer to a piece than its length).
-        let mut breaks = vec![0.0, upper];
-        let mut b = 2.0 / h;
-        while b < upper {
-            breaks.push(b);
-            b *= 2.0;
-        }
-        for &(centre, radius) in arcs.clone() {
-            let mut offset = radius;
-            loop {
-                if centre + offset < upper {
-                    breaks.push(centre + offset);
-                }
-                if centre - offset > 0.0 {
-                    breaks.push(centre - offset);
-                }
-                if offset > 2.0 / h {
-                    break;
-                }
-                offset *= 2.0;
-            }
-        }
-        breaks.sort_by(f64::total_cmp);
         let mut sum = [0.0; 3];
         for pair in breaks.windows(2) {
             let (lo, hi) = (pair[0], pair[1]);
@@ -78,6 +55,36 @@ impl FiniteDepthGreen {
             }
         }
         sum.map(|s| s / PI)
+    }
+
+    /// Break points of `[0, upper]`: 0, 2/h, 4/h, 8/h, ... below `upper`, `upper`, the arcs'
+    /// ends, and about each arc `centre +- 2^j radius` (a pole never nearer to a piece than its
+    /// length); sorted.
+    pub(super) fn break_points(&self, upper: f64, arcs: &[Option<(f64, f64)>; 2]) -> Vec<f64> {
+        let h = self.depth;
+        let mut breaks = vec![0.0, upper];
+        let mut b = 2.0 / h;
+        while b < upper {
+            breaks.push(b);
+            b *= 2.0;
+        }
+        for &(centre, radius) in arcs.iter().flatten() {
+            let mut offset = radius;
+            loop {
+                if centre + offset < upper {
+                    breaks.push(centre + offset);
+                }
+                if centre - offset > 0.0 {
+                    breaks.push(centre - offset);
+                }
+                if offset > 2.0 / h {
+                    break;
+                }
+                offset *= 2.0;
+            }
+        }
+        breaks.sort_by(f64::total_cmp);
+        breaks
     }
 
     /// The half circles over the poles, `(centre, radius)`: one over both when they are close

@@ -124,29 +124,8 @@ impl FiniteDepthGreen {
         let h = self.depth;
         let upper = 50.0 / (2.0 * h - span).clamp(h, 2.0 * h);
         let arcs = self.arcs(h);
+        let breaks = self.break_points(upper, &arcs);
         let arcs = arcs.iter().flatten();
-        let mut breaks = vec![0.0, upper];
-        let mut b = 2.0 / h;
-        while b < upper {
-            breaks.push(b);
-            b *= 2.0;
-        }
-        for &(centre, radius) in arcs.clone() {
-            let mut offset = radius;
-            loop {
-                if centre + offset < upper {
-                    breaks.push(centre + offset);
-                }
-                if centre - offset > 0.0 {
-                    breaks.push(centre - offset);
-                }
-                if offset > 2.0 / h {
-                    break;
-                }
-                offset *= 2.0;
-            }
-        }
-        breaks.sort_by(f64::total_cmp);
         let widest = REACH_PHASE / reach.max(1e-300);
         let rule = gauss_legendre(SEPARABLE_NODES);
         let mut nodes = Vec::new();
