@@ -219,19 +219,7 @@ fn derivatives_match_finite_differences() {
         let step = 1e-6 * f64::abs(x).max(0.01);
         for dof in 0..4 {
             for of in [Quantity::Force(dof), Quantity::ForceViscous(dof)] {
-                m.set_value(known, x + step).unwrap();
-                let up = m.value(of).unwrap();
-                m.set_value(known, x - step).unwrap();
-                let down = m.value(of).unwrap();
-                m.set_value(known, x).unwrap();
-                let numeric = (up - down) / (2.0 * step);
-                let exact = m.partial_derivative(of, known).unwrap();
-                // Scale: the largest derivative of this output (the coupling terms of a
-                // DOF far from its own may be near zero).
-                assert!(
-                    (numeric - exact).abs() < 1e-6 * exact.abs().max(1.0),
-                    "{of:?} / {known:?}: {numeric} vs {exact}"
-                );
+                super::viscous_tests::assert_derivative(&mut m, of, known, x, step);
             }
         }
     }

@@ -104,6 +104,22 @@ fn a_ship_sees_the_current_on_surge_and_sway() {
     assert_eq!((c[2], c[3]), (0.0, 0.0));
 }
 
+/// `d of / d known` at `known = x` against the central difference of step `step`, within
+/// `1e-6` of `max(|exact|, 1)`.
+pub(super) fn assert_derivative(m: &mut Model, of: Quantity, known: Quantity, x: f64, step: f64) {
+    m.set_value(known, x + step).unwrap();
+    let up = m.value(of).unwrap();
+    m.set_value(known, x - step).unwrap();
+    let down = m.value(of).unwrap();
+    m.set_value(known, x).unwrap();
+    let numeric = (up - down) / (2.0 * step);
+    let exact = m.partial_derivative(of, known).unwrap();
+    assert!(
+        (numeric - exact).abs() < 1e-6 * exact.abs().max(1.0),
+        "{of:?} / {known:?}: {numeric} vs {exact}"
+    );
+}
+
 #[test]
 fn derivatives_match_finite_differences() {
     let mut m = damped();
@@ -124,17 +140,7 @@ fn derivatives_match_finite_differences() {
             Quantity::Force(1),
             Quantity::ForceViscous(0),
         ] {
-            m.set_value(known, x + step).unwrap();
-            let up = m.value(of).unwrap();
-            m.set_value(known, x - step).unwrap();
-            let down = m.value(of).unwrap();
-            m.set_value(known, x).unwrap();
-            let numeric = (up - down) / (2.0 * step);
-            let exact = m.partial_derivative(of, known).unwrap();
-            assert!(
-                (numeric - exact).abs() < 1e-6 * exact.abs().max(1.0),
-                "{of:?} / {known:?}: {numeric} vs {exact}"
-            );
+            assert_derivative(&mut m, of, known, x, step);
         }
     }
     // dF/dv = -damping_direct - B_l - 2 B_q |v_r|: with the current at the velocity, -B_l.
