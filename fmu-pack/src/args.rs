@@ -334,6 +334,9 @@ pub struct PackArgs {
     /// binaries/x86_64-windows (FMI 3.0) (default: hydrofmu.dll next to the Linux library).
     #[arg(long)]
     pub binary_windows: Option<PathBuf>,
+    /// Pack no Windows DLL, even when one is next to the Linux library.
+    #[arg(long, conflicts_with = "binary_windows")]
+    pub no_windows: bool,
     /// modelIdentifier (default: from the output file name).
     #[arg(long)]
     pub model_identifier: Option<String>,

@@ -202,7 +202,10 @@ pub fn pack(
     let network = PackedNetwork::from_network(fitted.fit.network.clone());
     let target = crate::packing::Target {
         binary: &binary,
-        binary_windows: args.binary_windows.as_deref(),
+        binary_windows: crate::packing::WindowsBinary::from_args(
+            args.binary_windows.as_deref(),
+            args.no_windows,
+        ),
         model_identifier: &identifier,
         output: &args.output,
         fmi: args.fmi,

@@ -101,7 +101,10 @@ pub fn pack(args: &PackArgs) -> Result<PackSummary, PackError> {
     };
     let target = Target {
         binary: &binary,
-        binary_windows: args.binary_windows.as_deref(),
+        binary_windows: crate::packing::WindowsBinary::from_args(
+            args.binary_windows.as_deref(),
+            args.no_windows,
+        ),
         model_identifier: &identifier,
         output: &args.output,
         fmi: args.fmi,

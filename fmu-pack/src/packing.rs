@@ -42,14 +42,35 @@ impl From<ArchiveError> for PackError {
     }
 }
 
+/// Which Windows DLL an archive carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WindowsBinary<'a> {
+    /// [`WINDOWS_BINARY_NAME`] next to the Linux library, if there is one (the default).
+    Beside,
+    /// This DLL (`--binary-windows PATH`).
+    Given(&'a Path),
+    /// None (`--no-windows`): a Linux-only archive.
+    LeftOut,
+}
+
+impl<'a> WindowsBinary<'a> {
+    /// From the command line's `--binary-windows` and `--no-windows` (clap refuses both).
+    pub fn from_args(given: Option<&'a Path>, left_out: bool) -> Self {
+        match (given, left_out) {
+            (_, true) => WindowsBinary::LeftOut,
+            (Some(path), false) => WindowsBinary::Given(path),
+            (None, false) => WindowsBinary::Beside,
+        }
+    }
+}
+
 /// Where and how an archive is written.
 #[derive(Clone, Copy, Debug)]
 pub struct Target<'a> {
     /// The hydrofmu shared library to pack.
     pub binary: &'a Path,
-    /// The Windows DLL to pack too (`--binary-windows`); `None`: the `hydrofmu.dll` found next
-    /// to `binary`, if any ([`locate_windows_binary`]).
-    pub binary_windows: Option<&'a Path>,
+    /// The Windows DLL to pack too ([`locate_windows_binary`]).
+    pub binary_windows: WindowsBinary<'a>,
     /// modelIdentifier (the binary's name in the archive).
     pub model_identifier: &'a str,
     /// The archive.
@@ -349,16 +370,18 @@ pub fn locate_binary(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
 /// The Windows DLL's file name that [`locate_windows_binary`] looks for.
 pub const WINDOWS_BINARY_NAME: &str = "hydrofmu.dll";
 
-/// The Windows DLL to pack with `linux` (docs/WINDOWS.md): `explicit` (`--binary-windows`),
-/// else [`WINDOWS_BINARY_NAME`] in `linux`'s folder, or in its parent when that folder is
-/// cargo's `deps`; `None` when there is none. A found DLL older than `linux` is packed with a
-/// warning (rebuild it: `tools/build-windows.sh`).
+/// The Windows DLL to pack with `linux` (docs/WINDOWS.md): the one given
+/// (`--binary-windows`), none (`--no-windows`), or else [`WINDOWS_BINARY_NAME`] in `linux`'s
+/// folder, or in its parent when that folder is cargo's `deps`; `None` when there is none. A
+/// found DLL older than `linux` is packed with a warning ([`stale_windows_binary`]).
 pub fn locate_windows_binary(
-    explicit: Option<&Path>,
+    choice: WindowsBinary,
     linux: &Path,
 ) -> Result<Option<PathBuf>, PackError> {
-    if let Some(p) = explicit {
-        return existing(p, "--binary-windows").map(Some);
+    match choice {
+        WindowsBinary::Given(p) => return existing(p, "--binary-windows").map(Some),
+        WindowsBinary::LeftOut => return Ok(None),
+        WindowsBinary::Beside => {}
     }
     let folder = linux.parent().unwrap_or(Path::new("."));
     let mut candidates = vec![folder.join(WINDOWS_BINARY_NAME)];
@@ -370,18 +393,24 @@ pub fn locate_windows_binary(
     let Some(found) = candidates.into_iter().find(|c| c.is_file()) else {
         return Ok(None);
     };
-    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-    if let (Some(dll), Some(so)) = (modified(&found), modified(linux)) {
-        if dll < so {
-            crate::output::stderr_line(&format!(
-                "fmu-pack: warning: {} is older than {}: the Windows binary may lag the \
-                 sources (rebuild it: tools/build-windows.sh)",
-                found.display(),
-                linux.display()
-            ));
-        }
+    if let Some(warning) = stale_windows_binary(&found, linux) {
+        crate::output::stderr_line(&warning);
     }
     Ok(Some(found))
+}
+
+/// The warning for a found DLL `dll` last modified before the Linux library `linux`: it may
+/// lag the sources. `None` when it is not older, or a time cannot be read.
+pub fn stale_windows_binary(dll: &Path, linux: &Path) -> Option<String> {
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    (modified(dll)? < modified(linux)?).then(|| {
+        format!(
+            "fmu-pack: warning: {} is older than {}: the Windows binary may lag the sources \
+             (rebuild it: tools/build-windows.sh, or leave it out: --no-windows)",
+            dll.display(),
+            linux.display()
+        )
+    })
 }
 
 fn existing(p: &Path, source: &str) -> Result<PathBuf, PackError> {
@@ -435,7 +464,7 @@ mod tests {
         let id = identifier_from_path(&out);
         let target = Target {
             binary: &binary,
-            binary_windows: None,
+            binary_windows: WindowsBinary::Beside,
             model_identifier: &id,
             output: &out,
             fmi: FmiVersion::V3,
@@ -459,7 +488,7 @@ mod tests {
         let dir = temp_dir("windows");
         let binary = dir.join("libhydrofmu.so");
         std::fs::write(&binary, b"\x7fELF fake").unwrap();
-        let pack = |fmi, windows: Option<&Path>| {
+        let pack = |fmi, windows: WindowsBinary| {
             let out = dir.join("W.fmu");
             let target = Target {
                 binary: &binary,
@@ -471,18 +500,18 @@ mod tests {
             let summary = pack_network(hull(), net(), false, &target, None, None);
             (summary, inspect(&out))
         };
-        let (summary, found) = pack(FmiVersion::V2, None);
+        let (summary, found) = pack(FmiVersion::V2, WindowsBinary::Beside);
         assert_eq!(summary.unwrap().platforms, ["linux64"]);
         assert_eq!(found.unwrap().platforms, ["linux64"]);
         std::fs::write(dir.join(WINDOWS_BINARY_NAME), b"MZ fake").unwrap();
-        let (summary, found) = pack(FmiVersion::V2, None);
+        let (summary, found) = pack(FmiVersion::V2, WindowsBinary::Beside);
         assert_eq!(summary.unwrap().platforms, ["linux64", "win64"]);
         let found = found.unwrap();
         assert!(found.entries.contains(&"binaries/win64/W.dll".to_string()));
         assert!(found
             .to_string()
             .contains("platforms         linux64, win64"));
-        let (summary, found) = pack(FmiVersion::V3, None);
+        let (summary, found) = pack(FmiVersion::V3, WindowsBinary::Beside);
         assert!(summary
             .unwrap()
             .to_string()
@@ -492,10 +521,50 @@ mod tests {
             .entries
             .contains(&"binaries/x86_64-windows/W.dll".to_string()));
         // Given explicitly: it must exist and be a DLL.
-        let (summary, _) = pack(FmiVersion::V2, Some(&dir.join("none.dll")));
+        let (summary, _) = pack(FmiVersion::V2, WindowsBinary::Given(&dir.join("none.dll")));
         assert!(summary.unwrap_err().0.contains("--binary-windows"));
-        let (summary, _) = pack(FmiVersion::V2, Some(&binary));
+        let (summary, _) = pack(FmiVersion::V2, WindowsBinary::Given(&binary));
         assert!(summary.unwrap_err().0.contains("not a DLL"));
+        // Left out: a Linux-only archive although a DLL is beside the library.
+        let (summary, found) = pack(FmiVersion::V2, WindowsBinary::LeftOut);
+        assert_eq!(summary.unwrap().platforms, ["linux64"]);
+        assert!(!found
+            .unwrap()
+            .entries
+            .iter()
+            .any(|e| e.starts_with("binaries/win64")));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_dll_older_than_the_linux_library_is_packed_with_a_warning() {
+        let dir = temp_dir("stale");
+        let (so, dll) = (dir.join("libhydrofmu.so"), dir.join(WINDOWS_BINARY_NAME));
+        std::fs::write(&so, b"\x7fELF fake").unwrap();
+        std::fs::write(&dll, b"MZ fake").unwrap();
+        let set = |path: &Path, seconds: u64| {
+            let time = std::time::UNIX_EPOCH + std::time::Duration::from_secs(seconds);
+            std::fs::File::options()
+                .write(true)
+                .open(path)
+                .unwrap()
+                .set_modified(time)
+                .unwrap();
+        };
+        set(&so, 2_000_000_000);
+        set(&dll, 1_999_999_999);
+        let warning = stale_windows_binary(&dll, &so).unwrap();
+        assert!(warning.contains("is older than"), "{warning}");
+        assert!(warning.contains("--no-windows"), "{warning}");
+        // Still packed: the warning does not refuse it.
+        let found = locate_windows_binary(WindowsBinary::Beside, &so).unwrap();
+        assert_eq!(found.as_deref(), Some(dll.as_path()));
+        set(&dll, 2_000_000_000);
+        assert_eq!(stale_windows_binary(&dll, &so), None);
+        set(&dll, 2_000_000_001);
+        assert_eq!(stale_windows_binary(&dll, &so), None);
+        // Only a DLL found beside is checked; one missing is no warning.
+        assert_eq!(stale_windows_binary(&dir.join("none.dll"), &so), None);
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -508,7 +577,7 @@ mod tests {
         let to = |binary: &Path, output: &Path| {
             let target = Target {
                 binary,
-                binary_windows: None,
+                binary_windows: WindowsBinary::Beside,
                 model_identifier: "X",
                 output,
                 fmi: FmiVersion::V2,

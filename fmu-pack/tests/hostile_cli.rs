@@ -608,3 +608,21 @@ fn a_pack_that_cannot_write_its_osp_description_leaves_the_archive_as_it_was() {
     assert!(left.is_empty(), "temporary files left: {left:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn leaving_out_the_windows_dll_and_giving_one_are_refused_together() {
+    let dir = scratch("no-windows");
+    let out = dir.join("x.fmu");
+    let run = run(&[
+        "pack",
+        "semicircle",
+        "--no-windows",
+        "--binary-windows",
+        "hydrofmu.dll",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    run.assert_clean_exit(2, "--no-windows with --binary-windows");
+    assert!(run.stderr.contains("--no-windows"), "{}", run.stderr);
+    assert!(!out.exists());
+}
