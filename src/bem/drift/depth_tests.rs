@@ -165,7 +165,7 @@ fn a_wall_to_near_the_bottom_feels_the_standing_wave_drift() {
 fn a_moving_section_s_two_drifts_agree_in_the_flume_s_depth() {
     // The Sundsdal section (R = 0.2 m) in the flume's 1.0 m of water, imposed sway, heave and
     // roll together, per rho g a^2 (the largest drift about 1), worst over kR 0.1, 0.5, 2.
-    // Measured: 1.1e-2 on 128 panels, 3.4e-4 on 512 (deep water: 4.8e-3 and 1.5e-4).
+    // Measured: 3.3e-3 on 128 panels, 1.3e-4 on 512 (deep water: 4.8e-3 and 1.5e-4).
     let text = include_str!("../../../examples/hulls/sundsdal_floating.xml");
     let hull = Hull::from_xml_str(text, "sundsdal_floating.xml").unwrap();
     let xi: Vec<Complex64> = [(0.3, 0.2), (-0.4, 0.1), (0.5, -1.5)]
@@ -185,7 +185,6 @@ fn a_moving_section_s_two_drifts_agree_in_the_flume_s_depth() {
         worst
     };
     let (coarse, fine) = (worst(128), worst(512));
-    eprintln!("MEASURED moving {coarse:e} {fine:e}");
-    assert!(coarse <= 1.5e-2, "{coarse:e}");
-    assert!(fine <= 1e-3, "{fine:e}");
+    assert!(coarse <= 5e-3, "{coarse:e}");
+    assert!(fine <= 2e-4, "{fine:e}");
 }
