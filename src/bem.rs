@@ -871,8 +871,8 @@ fn solve_system(
                 forces.haskind[(j, h)] = fk - haskind_term;
             }
         }
-        // The mean drift force: deep water only.
-        if let Some((k, cosines, None)) = waves {
+        // The mean drift force, in deep water or the problem's depth.
+        if let Some((k, cosines, depth)) = waves {
             if cosines.iter().all(|c| c.abs() == 1.0) && body_count >= 3 {
                 let body_potential: Vec<Vec<Complex64>> = (0..headings)
                     .map(|h| {
@@ -886,7 +886,10 @@ fn solve_system(
                     .collect();
                 forces.drift = Some(drift::drift(
                     mesh,
-                    k,
+                    drift::Wave {
+                        wavenumber: k,
+                        depth,
+                    },
                     cosines,
                     &strengths,
                     &radiation,

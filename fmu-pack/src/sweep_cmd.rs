@@ -70,12 +70,6 @@ pub fn run(args: &SweepArgs) -> Result<(), String> {
         _ => {}
     }
     let (hull, mut params) = args.sweep.resolve()?;
-    if args.drift.is_some() && !params.depth.is_infinite() {
-        return Err(format!(
-            "--drift: the mean drift force is computed in deep water only; water depth {}",
-            params.depth
-        ));
-    }
     // The mass properties before a sweep that may take minutes.
     let floating =
         crate::floating::resolve(&hull, &args.floating, args.rao.as_ref().map(|_| "--rao"))?;

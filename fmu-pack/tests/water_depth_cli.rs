@@ -1,5 +1,5 @@
 //! `fmu-pack sweep --water-depth`: finite depth for sections, its table line, and clear
-//! errors for a bad depth, a hull on the bottom and the drift.
+//! errors for a bad depth and a hull on the bottom; the drift table in finite depth.
 
 mod common;
 use common::fmu_pack;
@@ -46,7 +46,23 @@ fn bad_depths_are_refused_by_name() {
     let (ok, _, err) = sweep(&["--water-depth", "0.9"]);
     assert!(!ok);
     assert!(err.contains("bottom") && err.contains("keel"), "{err}");
-    let (ok, _, err) = sweep(&["--water-depth", "3", "--drift", "-"]);
-    assert!(!ok);
-    assert!(err.contains("deep water only"), "{err}");
+}
+
+#[test]
+fn the_drift_table_carries_the_water_depth() {
+    let dir = common::folder("water-depth-drift");
+    let path = dir.join("drift.csv");
+    let (ok, _, err) = sweep(&["--water-depth", "3", "--drift", path.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.lines().any(|l| l == "# depth: 3"), "{text}");
+    // kR 0.5 and 1 for sway and heave, headings 0 and 180: every value finite.
+    let rows: Vec<f64> = text
+        .lines()
+        .skip_while(|l| *l != "kR,j,heading,value")
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), 8, "{text}");
+    assert!(rows.iter().all(|v| v.is_finite()), "{text}");
 }

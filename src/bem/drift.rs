@@ -1,28 +1,48 @@
-//! Far-field wave amplitudes and the mean wave drift force of a fixed section.
+//! Far-field wave amplitudes and the mean wave drift force of a fixed section, in deep water
+//! or in water of depth `h`.
 //!
 //! # Far field
 //! Far from the body the wave part of the Green function is `i e^{k(y + y0)} e^{-ik|x - x0|}`
-//! ([`crate::green`]), so a source distribution `sigma` radiates, towards `s = +1` (+x) or
-//! `s = -1` (-x), the potential `K(s) e^{k y - i s k x}` with the Kochin amplitude
+//! in deep water and `i A0 Z0(y) Z0(y0) e^{-ik|x - x0|}` in depth `h`
+//! ([`crate::green`], [`crate::green::finite_depth`]: `Z0(y) = cosh k(y + h)`,
+//! `A0 = 2/(2kh + sinh 2kh)`, `k` the propagating wavenumber, `nu = omega^2/g = k tanh kh`).
+//! So a source distribution `sigma` radiates, towards `s = +1` (+x) or `s = -1` (-x), the
+//! potential `K(s) Z(y) e^{-i s k x}` with `Z(y) = e^{ky}` (deep) or `cosh k(y + h)/cosh kh`
+//! (unit value at `y = 0`) and the Kochin amplitude
 //!
 //! ```text
-//! K(s) = i sum_p sigma_p integral_{panel p} e^{k y0 + i s k x0} ds0     (body and lid panels)
+//! deep:    K(s) = i sum_p sigma_p integral_{panel p} e^{k y0 + i s k x0} ds0
+//! depth h: K(s) = i C sum_p sigma_p integral_{panel p} [e^{k y0} + q e^{-k y0}] e^{i s k x0} ds0
+//!          q = e^{-2kh},  C = A0 cosh(kh) e^{kh} / 2 = (1 + q) / (1 - q^2 + 4 kh q)
 //! ```
 //!
-//! (exact panel integrals). A unit-amplitude incident wave `psi_0 = e^{k y - i c k x}` has the
-//! elevation `e^{-i c k x}`, so the scattered wave of heading `c` has the elevation amplitude
-//! `K_D(s)`; its reflection coefficient is `R = K_D(-c)` and its transmission coefficient
-//! `T = 1 + K_D(c)`. The radiation potential of DOF j per unit velocity raises the elevation
-//! `k K_j(s)` per unit displacement. Energy: `-Im A~_jj / rho = (|K_j(+1)|^2 + |K_j(-1)|^2) / 2`,
-//! and a fixed, lossless section has `|R|^2 + |T|^2 = 1`.
+//! over body and lid panels (exact panel integrals; `C -> 1`, `q -> 0` as `kh -> inf`). A
+//! unit-amplitude incident wave `psi_0 = Z(y) e^{-i c k x}` has the elevation `e^{-i c k x}`,
+//! so the scattered wave of heading `c` has the elevation amplitude `K_D(s)`; its reflection
+//! coefficient is `R = K_D(-c)` and its transmission coefficient `T = 1 + K_D(c)`. The
+//! radiation potential of DOF j per unit velocity raises the elevation `nu K_j(s)` per unit
+//! displacement. Energy: the waves carry `rho g |a|^2 c_g / 2` each, `c_g = (omega / 2k)(1 + G)`,
+//! `G = 2kh / sinh 2kh` (0 in deep water), so
+//! `-Im A~_jj / rho = tanh(kh) (1 + G) (|K_j(+1)|^2 + |K_j(-1)|^2) / 2`, and a fixed, lossless
+//! section has `|R|^2 + |T|^2 = 1`.
 //!
 //! # Mean drift, far field (Maruo)
 //! The mean horizontal force per unit length in a regular wave of amplitude `a` is the momentum
 //! the waves bring minus what they take away,
 //!
 //! ```text
-//! F_x = c (rho g a^2 / 4) (1 + |R|^2 - |T|^2)     (= c (rho g a^2 / 2) |R|^2 without losses)
+//! F_x = c (rho g a^2 / 4) (1 + G) (1 + |R|^2 - |T|^2)     (= c (rho g a^2 / 2) (1 + G) |R|^2 without losses)
 //! ```
+//!
+//! The mean momentum flux through a vertical plane, with the mean of the second-order pressure
+//! `-rho |grad Phi|^2 / 2` (the second-order potential periodic: no Bernoulli constant) and the
+//! linear theory's zero mean level on both sides, is
+//! `int_{-h}^0 rho <u^2 - w^2> / 2 dy + rho g <eta^2> / 2`: `(rho g a^2 / 4)(1 + G)` for a
+//! progressive wave; the cross terms of the incident and the reflected wave cancel, so the
+//! flux is the same at every `x`, and it is what the pressure integration below sums on the
+//! body. (Longuet-Higgins and Stewart's radiation stress `(rho g a^2 / 4)(1 + 2G)` takes the
+//! mean pressure `-rho <w^2>` of a progressive wave, which a partly standing wave does not
+//! have.) The set-down's hydrostatic force is left out (both sides at the still-water level).
 //!
 //! # Mean drift, near field (pressure integration on the fixed section)
 //! The mean of the second-order pressure `-rho |grad Phi|^2 / 2` on the wetted contour and of the
@@ -30,14 +50,16 @@
 //! `rho g a^2`, in the direction of DOF j,
 //!
 //! ```text
-//! D_j = sum_waterlines |psi|^2 n_j / (4 |n_x|)  -  (1 / 4k) integral_C |d(psi)/ds|^2 n_j ds
+//! D_j = sum_waterlines |psi|^2 n_j / (4 |n_x|)  -  (1 / 4 nu) integral_C |d(psi)/ds|^2 n_j ds
 //! ```
 //!
-//! with the total potential `psi = psi_0 + psi_D` (the normal velocity is zero on a fixed body)
-//! and `n_j / |n_x|` the strip's length per unit height times `n_j`. The tangential derivative is
-//! a three-point difference of the panel values along the contour, the waterline values a
-//! quadratic extrapolation of the three panels nearest to each waterline point: both second order
-//! in the panel length, and extrapolated to zero panel size with the rest of a sweep.
+//! with the total potential `psi = psi_0 + psi_D` in elevation units (`Phi = g a psi / (i omega)`,
+//! so `|grad Phi|^2 = (g a^2 / nu) |grad psi|^2` in any depth; the normal velocity is zero on a
+//! fixed body) and `n_j / |n_x|` the strip's length per unit height times `n_j`. The tangential
+//! derivative is a three-point difference of the panel values along the contour, the waterline
+//! values a quadratic extrapolation of the three panels nearest to each waterline point: both
+//! second order in the panel length, and extrapolated to zero panel size with the rest of a
+//! sweep.
 
 use crate::panels::{Mesh, Panel};
 use faer::Mat;
@@ -73,6 +95,9 @@ pub struct Drift {
     pub motion_forms: Vec<Vec<DMatrix<Complex64>>>,
     /// The DOF index of each motion the forms take, after the wave's column: the rigid DOFs.
     pub moving: Vec<usize>,
+    /// The mean momentum flux of a progressive wave per `rho g a^2 / 4`: `1 + 2kh / sinh 2kh`
+    /// in depth `h`, 1 in deep water.
+    pub momentum_factor: f64,
 }
 
 impl Drift {
@@ -102,6 +127,7 @@ impl Drift {
             horizontal: self.horizontal.clone(),
             motion_forms: forms,
             moving: self.moving.clone(),
+            momentum_factor: self.momentum_factor,
         }
     }
 
@@ -124,10 +150,15 @@ impl Drift {
     }
 
     /// The fixed section's mean horizontal force per `rho g a^2` by the momentum of the far
-    /// field (Maruo): `c (1 + |R|^2 - |T|^2) / 4`.
+    /// field (Maruo): `c (1 + G) (1 + |R|^2 - |T|^2) / 4` ([`Drift::momentum_factor`]).
     pub fn horizontal_far_field(&self, h: usize) -> f64 {
         let (r, t) = (self.reflection(h), self.transmission(h));
-        self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0
+        self.momentum(h, r, t)
+    }
+
+    /// `c (1 + G) (1 + |R|^2 - |T|^2) / 4` of heading `h`.
+    fn momentum(&self, h: usize, r: Complex64, t: Complex64) -> f64 {
+        self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0 * self.momentum_factor
     }
 
     /// The reflection and transmission coefficients of heading `h` for a section that moves
@@ -151,10 +182,10 @@ impl Drift {
     }
 
     /// The mean horizontal force per `rho g a^2` on a section that moves by `motion`, by the
-    /// momentum of the far field: `c (1 + |R|^2 - |T|^2) / 4`.
+    /// momentum of the far field: `c (1 + G) (1 + |R|^2 - |T|^2) / 4`.
     pub fn horizontal_far_field_moving(&self, h: usize, motion: &[Complex64]) -> f64 {
         let (r, t) = self.coefficients_moving(h, motion);
-        self.cosines[h].signum() * (1.0 + r.norm_sqr() - t.norm_sqr()) / 4.0
+        self.momentum(h, r, t)
     }
 
     /// The fixed section's mean horizontal force per `rho g a^2` by pressure integration.
@@ -246,6 +277,7 @@ impl Drift {
             horizontal: index.iter().map(|&j| self.horizontal[j]).collect(),
             motion_forms: forms,
             moving: kept.iter().map(|k| k.1).collect(),
+            momentum_factor: self.momentum_factor,
         }
     }
 }
@@ -265,24 +297,73 @@ pub(super) fn exponential_mean(panel: &Panel, alpha: [Complex64; 2]) -> Complex6
     centre.exp() * shape
 }
 
+/// The propagating wave of a drift solve: its wavenumber `k`, `nu = omega^2 / g` and the depth.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Wave {
+    /// The propagating wavenumber `k` (1/m).
+    pub wavenumber: f64,
+    /// The water depth `h` (m); `None`: deep water.
+    pub depth: Option<f64>,
+}
+
+impl Wave {
+    /// `nu = omega^2 / g`: `k tanh kh`, `k` in deep water.
+    fn nu(&self) -> f64 {
+        let k = self.wavenumber;
+        self.depth.map_or(k, |h| k * (k * h).tanh())
+    }
+
+    /// `q = e^{-2kh}` (0 in deep water).
+    fn bottom_ratio(&self) -> f64 {
+        self.depth
+            .map_or(0.0, |h| (-2.0 * self.wavenumber * h).exp())
+    }
+
+    /// `1 + G`, `G = 2kh / sinh 2kh = 4 kh q / (1 - q^2)` (1 in deep water).
+    fn momentum_factor(&self) -> f64 {
+        match self.depth {
+            None => 1.0,
+            Some(h) => {
+                let (kh, q) = (self.wavenumber * h, self.bottom_ratio());
+                1.0 + 4.0 * kh * q / (1.0 - q * q)
+            }
+        }
+    }
+}
+
 /// Kochin amplitudes `K(s)` of every column of `strengths` (unknowns: body, then lid panels),
 /// columns `s = -1, +1`.
 fn kochin(
     mesh: &Mesh,
-    wavenumber: f64,
+    wave: Wave,
     strengths: &Mat<faer::complex_native::c64>,
 ) -> DMatrix<Complex64> {
-    let k = wavenumber;
+    let k = wave.wavenumber;
     let unknowns = strengths.nrows();
     let mut out = DMatrix::zeros(strengths.ncols(), 2);
     for (column, s) in [-1.0, 1.0].into_iter().enumerate() {
         let alpha = [Complex64::new(0.0, s * k), Complex64::new(k, 0.0)];
-        let weights: Vec<Complex64> = (0..unknowns)
-            .map(|p| {
-                let panel = unknown_panel(mesh, p);
-                Complex64::new(0.0, panel.length) * exponential_mean(panel, alpha)
-            })
-            .collect();
+        let weights: Vec<Complex64> = match wave.depth {
+            None => (0..unknowns)
+                .map(|p| {
+                    let panel = unknown_panel(mesh, p);
+                    Complex64::new(0.0, panel.length) * exponential_mean(panel, alpha)
+                })
+                .collect(),
+            Some(h) => {
+                let q = wave.bottom_ratio();
+                let scale = (1.0 + q) / (1.0 - q * q + 4.0 * k * h * q);
+                let down = [alpha[0], Complex64::new(-k, 0.0)];
+                (0..unknowns)
+                    .map(|p| {
+                        let panel = unknown_panel(mesh, p);
+                        let mean =
+                            exponential_mean(panel, alpha) + exponential_mean(panel, down) * q;
+                        Complex64::new(0.0, panel.length * scale) * mean
+                    })
+                    .collect()
+            }
+        };
         for q in 0..strengths.ncols() {
             out[(q, column)] = (0..unknowns)
                 .map(|p| from_faer(strengths.read(p, q)) * weights[p])
@@ -386,20 +467,21 @@ fn tangential_derivative(
 /// heading.
 pub(super) fn drift(
     mesh: &Mesh,
-    wavenumber: f64,
+    wave: Wave,
     cosines: &[f64],
     strengths: &Mat<faer::complex_native::c64>,
     radiation: &[Vec<Complex64>],
     body_potential: &[Vec<Complex64>],
     incident: &[Vec<(Complex64, Complex64)>],
 ) -> Drift {
-    let k = wavenumber;
+    // Radiated elevation per unit displacement and near-field velocities scale with nu.
+    let nu = wave.nu();
     let dofs = mesh.dof_names.len();
     let n = mesh.body.len();
-    let mut far_field = kochin(mesh, k, strengths);
+    let mut far_field = kochin(mesh, wave, strengths);
     for j in 0..dofs {
         for s in 0..2 {
-            far_field[(j, s)] *= k;
+            far_field[(j, s)] *= nu;
         }
     }
     let arc = centre_arc_lengths(mesh);
@@ -418,11 +500,11 @@ pub(super) fn drift(
         }
     };
     let motion = moving::Motion::of(mesh);
-    // The moving columns' potentials in elevation units (k phi_j) and their derivatives.
+    // The moving columns' potentials in elevation units (nu phi_j) and their derivatives.
     let radiated: Vec<Vec<Complex64>> = motion
         .dofs
         .iter()
-        .map(|&j| radiation[j].iter().map(|phi| phi * k).collect())
+        .map(|&j| radiation[j].iter().map(|phi| phi * nu).collect())
         .collect();
     let radiated_tangential: Vec<Vec<Complex64>> = radiated
         .iter()
@@ -477,7 +559,7 @@ pub(super) fn drift(
                 .collect(),
             waterlines: waterline_data,
         };
-        let forms = moving::forms(mesh, k, &motion, &heading, &normal);
+        let forms = moving::forms(mesh, nu, &motion, &heading, &normal);
         for (j, q) in forms.iter().enumerate() {
             near_field[(j, h)] = q[(0, 0)].re;
         }
@@ -495,8 +577,11 @@ pub(super) fn drift(
         horizontal,
         motion_forms,
         moving: motion.dofs,
+        momentum_factor: wave.momentum_factor(),
     }
 }
 
+#[cfg(test)]
+mod depth_tests;
 #[cfg(test)]
 mod tests;

@@ -15,7 +15,9 @@
 //!
 //! so rigid yaw gets the sway drift's moment `integral x d_sway dx` and rigid pitch
 //! `-integral x d_heave dx` (bow down positive). A long wall reflecting an oblique wave fully
-//! gives `rho g a^2 sin^2(beta) / 2` per unit length, which this reproduces. Strip theory has
+//! gives `rho g a^2 sin^2(beta) / 2` per unit length (times `1 + 2kh / sinh 2kh` in water of
+//! depth `h`), which this reproduces. Each section's drift is solved in its solver's depth
+//! (deep water or finite, [`crate::bem::Drift`]). Strip theory has
 //! no surge drift (a slender section has no force along x, and surge is no ship DOF); in head
 //! and following seas every drift is zero. Valid where the waves are short against the ship
 //! and not near head or following seas, away from the ends (docs/SHIPS.md).

@@ -149,7 +149,6 @@ impl SweepResult {
     /// frequencies in ascending order, each with headings 0 and 180 and every DOF. Frequencies
     /// solved without the drift (oblique waves) are left out.
     pub fn write_drift_csv(&self, out: &mut dyn Write) -> std::io::Result<()> {
-        self.refuse_finite_depth_drift()?;
         self.write_header_with_exponents(out)?;
         writeln!(
             out,
@@ -212,7 +211,6 @@ impl SweepResult {
         body: &str,
         values: &[(f64, DMatrix<f64>)],
     ) -> std::io::Result<()> {
-        self.refuse_finite_depth_drift()?;
         self.write_header_with_exponents(out)?;
         writeln!(
             out,
@@ -244,16 +242,6 @@ impl SweepResult {
             }
         }
         Ok(())
-    }
-
-    /// The mean drift force is computed in deep water only: an error in finite depth.
-    fn refuse_finite_depth_drift(&self) -> std::io::Result<()> {
-        match self.depth {
-            crate::units::WaterDepth::Infinite => Ok(()),
-            depth => Err(std::io::Error::other(format!(
-                "the mean drift force is computed in deep water only (water depth {depth})"
-            ))),
-        }
     }
 
     /// `R^e_j` of every DOF.

@@ -247,11 +247,16 @@ fn every_table_records_the_water_depth() {
     assert!(d > 1e-3 * deep.added_mass[0][(1, 1)].norm());
     assert!(finite.added_mass_zero[(1, 1)].is_none());
     assert!(finite.added_mass_zero[(0, 0)].is_some());
-    // No drift in finite depth: refused by name, not written empty.
-    let mut text = Vec::new();
-    let error = finite.write_drift_csv(&mut text).unwrap_err();
-    assert!(error.to_string().contains("deep water only"), "{error}");
-    assert!(deep.write_drift_csv(&mut Vec::new()).is_ok());
+    // The drift table too, in either depth.
+    for (result, line) in [(&deep, "# depth: inf\n"), (&finite, "# depth: 2.5\n")] {
+        let mut text = Vec::new();
+        result.write_drift_csv(&mut text).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        assert!(
+            text.contains(line) && text.contains("\nkR,j,heading,value\n"),
+            "{text}"
+        );
+    }
 }
 
 #[test]

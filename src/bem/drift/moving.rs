@@ -2,16 +2,17 @@
 //!
 //! A section whose rigid DOFs (sway `xi_x`, heave `xi_y`, roll `theta` about `P`) move by `xi`
 //! per unit wave amplitude displaces its contour point `r` by `X = (xi_x - theta (y - y_P),
-//! xi_y + theta (x - x_P))`. Its total first-order potential is `psi + k sum_j xi_j phi_j`
-//! (in elevation units: the dynamic pressure is `rho g a Psi`), with the diffraction problem's
+//! xi_y + theta (x - x_P))`. Its total first-order potential is `psi + nu sum_j xi_j phi_j`
+//! (in elevation units: the dynamic pressure is `rho g a Psi`; `nu = omega^2 / g`, the
+//! wavenumber `k` in deep water, `k tanh kh` in depth `h`), with the diffraction problem's
 //! `psi = psi_0 + psi_D` and the radiation potentials `phi_j` per unit velocity. Pressure
 //! integration to second order over the mean wetted contour `S_0` (Pinkster 1980; Ogilvie 1983),
 //! per `rho g a^2` and with the mean of products `<Re(A e^{iwt}) Re(B e^{iwt})> = Re(A B*) / 2`:
 //!
 //! ```text
 //! D_j = sum_waterlines |zeta_r|^2 n_j / (4 |n_x|)           zeta_r = Psi - X_y (relative elevation)
-//!     + int_S0 [ -|d Psi/ds|^2 / (4k) - k |X_n|^2 / 4       (velocity squared; dPsi/dn = k X_n)
-//!              + Re(X_s conj(d Psi/ds)) / 2 + k |X_n|^2 / 2  (X . grad p: the pressure at the moved point)
+//!     + int_S0 [ -|d Psi/ds|^2 / (4nu) - nu |X_n|^2 / 4     (velocity squared; dPsi/dn = nu X_n)
+//!              + Re(X_s conj(d Psi/ds)) / 2 + nu |X_n|^2 / 2 (X . grad p: the pressure at the moved point)
 //!              + |theta|^2 (y - y_P) / 4 ] n_j ds            (second-order hydrostatics of the rotation)
 //!     + rigid terms of the row
 //! ```
@@ -160,15 +161,14 @@ pub(super) struct Heading {
     pub waterlines: Vec<Waterline>,
 }
 
-/// The forms `Q_j` of one heading, rows the DOFs then the horizontal force.
+/// The forms `Q_j` of one heading, rows the DOFs then the horizontal force; `nu = omega^2 / g`.
 pub(super) fn forms(
     mesh: &Mesh,
-    wavenumber: f64,
+    nu: f64,
     motion: &Motion,
     heading: &Heading,
     normal: &dyn Fn(usize, usize) -> f64,
 ) -> Vec<DMatrix<Complex64>> {
-    let k = wavenumber;
     let dofs = mesh.dof_names.len();
     let size = motion.size();
     let theta = motion.unit(motion.roll.map(|(c, _)| c));
@@ -249,10 +249,10 @@ pub(super) fn forms(
                 let weight = normal(l, j) * panel.length;
                 let (x_n, x_s, _) = &panels[l];
                 let tangential = &heading.tangential[l];
-                add_product(&mut q, -weight / (4.0 * k), tangential, tangential);
-                // -k/4 (velocity squared) + k/2 (X . grad p) of |X_n|^2.
+                add_product(&mut q, -weight / (4.0 * nu), tangential, tangential);
+                // -nu/4 (velocity squared) + nu/2 (X . grad p) of |X_n|^2.
                 let x_n = to_complex(x_n);
-                add_product(&mut q, 0.25 * k * weight, &x_n, &x_n);
+                add_product(&mut q, 0.25 * nu * weight, &x_n, &x_n);
                 add_product(&mut q, 0.5 * weight, &to_complex(x_s), tangential);
                 hydrostatic += (panel.centre[1] - y_reference) * weight;
                 for (axis, h) in height.iter_mut().enumerate() {
