@@ -24,9 +24,9 @@ pub struct HullSweepArgs {
     /// Centre depth over radius H/R of the built-in circle (> 1; 0 gives the semicircle).
     #[arg(long = "depth", value_name = "H_OVER_R")]
     pub depth: Option<f64>,
-    /// Sections only: the water depth in metres (`inf`: deep water, the default), flat
-    /// bottom; overrides a hull file's `depth` attribute (docs/FINITE_DEPTH.md). Not the
-    /// circle's `--depth`.
+    /// The water depth in metres (`inf`: deep water, the default), flat bottom; overrides a
+    /// hull or ship file's `depth` attribute; for WAMIT files the depth they were computed in
+    /// (docs/FINITE_DEPTH.md). Not the circle's `--depth`.
     #[arg(
         long = "water-depth",
         value_name = "METRES",
@@ -92,18 +92,6 @@ impl HullSweepArgs {
             ("--frequency-column", self.frequency_column.is_some()),
             ("--conjugate", self.conjugate),
         ];
-        if self.water_depth.is_some()
-            && matches!(
-                hydrofmu::source::Source::from_argument(&self.hull),
-                Ok(hydrofmu::source::Source::ShipFile(_))
-            )
-        {
-            return Err(
-                "--water-depth applies to a section; a ship's strip theory solves deep water \
-                 only in this version"
-                    .to_string(),
-            );
-        }
         match given.iter().find(|(_, g)| *g) {
             Some((flag, _)) => Err(format!(
                 "{flag} applies to an imported database (NAME.1), not to '{}'",

@@ -10,14 +10,16 @@ use hydrofmu::database::import::{self, ImportParams};
 use hydrofmu::database::wamit::FrequencyColumn;
 use hydrofmu::database::Database;
 use hydrofmu::scene::{all_frequencies, whole_body, BodyScene, FittedBody};
+use hydrofmu::units::WaterDepth;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// The import parameters of the command line; the section and ship options refused.
+/// The import parameters of the command line (`--water-depth`: the depth of WAMIT files, which
+/// do not state it; a Capytaine dataset's own must agree); the section and ship options
+/// refused.
 fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
     let refused = [
         ("--depth", args.depth.is_some()),
-        ("--water-depth", args.water_depth.is_some()),
         ("--panels", args.panels.is_some()),
         ("--levels", args.levels.is_some()),
         ("--omega", args.omega.is_some()),
@@ -31,6 +33,13 @@ fn params(args: &HullSweepArgs) -> Result<ImportParams, String> {
         ));
     }
     let mut params = ImportParams::new();
+    if let Some(metres) = args.water_depth {
+        // WAMIT files do not state their depth; a Capytaine dataset's must agree.
+        params.depth = Some(
+            WaterDepth::new(metres)
+                .map_err(|e| format!("--water-depth {metres}: {e} (`inf` for deep water)"))?,
+        );
+    }
     if let Some(l) = args.length_scale {
         if !(l.is_finite() && l > 0.0) {
             return Err(format!("--length-scale {l}: it must be finite and > 0 m"));

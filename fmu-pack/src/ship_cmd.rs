@@ -47,6 +47,11 @@ fn resolve(args: &HullSweepArgs) -> Result<(Ship, ShipSweepParams), String> {
         params.extrapolation_levels = levels;
         params.levels_with_corners = levels;
     }
+    if let Some(metres) = args.water_depth {
+        // The command line overrides the file's `depth`.
+        params.depth = hydrofmu::units::WaterDepth::new(metres)
+            .map_err(|e| format!("--water-depth {metres}: {e} (`inf` for deep water)"))?;
+    }
     params.threads = args.threads;
     if args.plain {
         params.irregular_frequencies = IrregularFrequencies::Keep;

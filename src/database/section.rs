@@ -165,7 +165,7 @@ impl SectionDatabase {
     /// The section sweep `sweep` of `hull` in SI for `rho` and `g` (the added mass as
     /// [`FrequencyResponse::from_sweep`] scales it, made symmetric), the restoring of
     /// [`crate::hydrostatics::stiffness`], the exciting force of [`SweepResult::excitation`]
-    /// (direct solve) when computed.
+    /// (direct solve) when computed, in the sweep's water depth ([`SweepResult::depth`]).
     ///
     /// # Errors
     /// A sweep of other DOFs than the hull's, two DOFs that would be one WAMIT rigid mode,
@@ -251,7 +251,7 @@ impl SectionDatabase {
             body_panels: vec![sweep.panel_counts.0],
             drift: Vec::new(),
             drift_headings: Vec::new(),
-            depth: crate::units::WaterDepth::Infinite,
+            depth: sweep.depth,
         };
         // The fixed section's mean drift, when every frequency has it (headings 0 and 180).
         let drifts: Option<Vec<DMatrix<f64>>> = sweep
@@ -405,6 +405,14 @@ mod tests {
 
     /// The section database of `hull` on a small grid, and its sweep's own tables.
     fn exported(hull: &Hull) -> (SectionDatabase, [Vec<u8>; 3]) {
+        exported_in(hull, crate::units::WaterDepth::Infinite)
+    }
+
+    /// [`exported`] in water depth `depth`.
+    fn exported_in(
+        hull: &Hull,
+        depth: crate::units::WaterDepth,
+    ) -> (SectionDatabase, [Vec<u8>; 3]) {
         use crate::panels::PanelParams;
         use crate::sweep::{run, SweepParams};
         let params = SweepParams {
@@ -413,6 +421,7 @@ mod tests {
                 body_panels: 24,
                 ..PanelParams::default()
             },
+            depth,
             ..SweepParams::default()
         };
         let sweep = run(hull, &params, &|_, _| {}).unwrap();
@@ -492,6 +501,25 @@ mod tests {
             .notes
             .iter()
             .any(|n| n.contains("water depth 6 m")));
+    }
+
+    #[test]
+    fn the_database_of_a_finite_depth_sweep_has_the_sweeps_depth() {
+        use crate::units::WaterDepth;
+        let hull = Hull::semicircle(2.0).unwrap();
+        let (deep, _) = exported(&hull);
+        assert_eq!(deep.database.depth, WaterDepth::Infinite);
+        // h = 3 m, h/R = 1.5: the bottom raises heave's A_inf well above deep water's.
+        let (finite, today) = exported_in(&hull, WaterDepth::Finite(3.0));
+        assert_eq!(finite.database.depth, WaterDepth::Finite(3.0));
+        let sweep_table = String::from_utf8(today[0].clone()).unwrap();
+        assert!(sweep_table.contains("\n# depth: 1.5\n"), "{sweep_table}");
+        let mut table = Vec::new();
+        finite.database.write_csv(&mut table).unwrap();
+        let table = String::from_utf8(table).unwrap();
+        assert!(table.contains("\n# depth: 3 m\n"), "{table}");
+        let heave = |s: &SectionDatabase| s.database.added_mass_inf[(1, 1)];
+        assert!(heave(&finite) > 1.1 * heave(&deep), "{}", heave(&finite));
     }
 
     #[test]

@@ -4,9 +4,10 @@
 //! Each section is solved with the panel method of [`crate::bem`] for its rigid sway, heave
 //! and roll about the origin and the elastic DOFs the ship's modes use
 //! ([`Hull::ship_section`]), Richardson-extrapolated over the discretization levels as a
-//! section sweep is ([`Solver`]). The incident wave of heading `beta` reaches the section at
-//! `x` as `e^{-i k x cos beta}` times a 2D wave of transverse direction cosine `sin beta`
-//! ([`crate::bem::Problem::solve_waves`]); the sectional force is the Haskind form, the
+//! section sweep is ([`Solver`]), in the sweep's water depth ([`Solver::with_depth`]). The
+//! incident wave of heading `beta` reaches the section at `x` as `e^{-i k x cos beta}` times a
+//! 2D wave of transverse direction cosine `sin beta` ([`crate::bem::Problem::solve_waves`]),
+//! `k` the root of `omega^2 = g k tanh(k h)`; the sectional force is the Haskind form, the
 //! zero-speed Salvesen-Tuck-Faltinsen one. The sectional restoring is
 //! [`crate::hydrostatics::stiffness`]; rigid pitch adds `rho g V z_B` (the buoyancy's own
 //! moment arm, as roll's closed form has per section).
@@ -76,8 +77,9 @@ pub struct ShipSweepParams {
     pub drift: bool,
     /// Water depth (the ship file's `depth`, `--water-depth`). Default deep water. Every
     /// wavenumber of the strip integration solves `omega^2 = g k tanh(k h)`
-    /// ([`WaterDepth::wavenumber`]); each section is validated in it (one reaching the
-    /// bottom is refused).
+    /// ([`WaterDepth::wavenumber`]); each section is validated (one reaching the bottom is
+    /// refused) and solved in it, `A_inf` and the long-wave force included. The mean drift
+    /// (`drift`) is refused in finite depth.
     pub depth: WaterDepth,
 }
 
@@ -437,11 +439,11 @@ pub fn run(
         };
         as_section.validate(hull).map_err(section_error(k))?;
     }
-    // The sections' radiation and diffraction solves below are deep-water ones.
-    if let WaterDepth::Finite(h) = params.depth {
+    // The sections' mean drift (`super::drift`) is a deep-water one.
+    if let (true, WaterDepth::Finite(h)) = (params.drift, params.depth) {
         return Err(bad(format!(
-            "water depth {h} m: a ship's section solves are for deep water only in this \
-             version"
+            "the ship's mean drift force (--drift) is computed in deep water only; water \
+             depth {h} m (leave out --drift, or the depth)"
         )));
     }
     let pool = rayon::ThreadPoolBuilder::new()
@@ -454,8 +456,8 @@ pub fn run(
             .par_iter()
             .enumerate()
             .map(|(k, hull)| {
-                Solver::new(hull, params.panels_for(hull), params.levels_for(hull))
-                    .map_err(section_error(k))
+                let (panels, levels) = (params.panels_for(hull), params.levels_for(hull));
+                Solver::with_depth(hull, panels, levels, params.depth).map_err(section_error(k))
             })
             .collect::<Result<_, _>>()
     })?;
@@ -510,7 +512,7 @@ pub fn run(
             .par_iter()
             .map(|&(k, w)| -> Solved {
                 let omega = params.omega[w];
-                // Deep water: a finite depth is refused above.
+                // nu = omega^2/g: the section's problem finds the depth's propagating k.
                 let wavenumber = crate::units::wavenumber(omega, params.g);
                 let at = |e| format!("the section at x = {} m: {e}", first_x(k));
                 let solution = solvers[k]
