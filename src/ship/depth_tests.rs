@@ -316,24 +316,58 @@ fn a_depth_just_below_the_deepest_keel_works_and_one_at_a_keel_is_refused_by_sta
     }
 }
 
+/// A prismatic ship's mean drift in finite depth is L times its section's 2D drift in the same
+/// depth, scaled by the transverse share `sin^2 beta` of the wave's momentum flux (module docs
+/// of `super::drift`); the depth changes it.
 #[test]
-fn the_ships_drift_in_finite_depth_and_bad_depths_are_refused_by_name() {
+fn a_prismatic_ships_drift_in_finite_depth_is_the_depths_section_drift_times_its_length() {
+    let (rho, length, depth) = (1025.0, 10.0, WaterDepth::Finite(2.0));
     let ship = prism();
-    let drift = ShipSweepParams {
+    let kr = [0.6, 1.2];
+    let omega: Vec<f64> = kr
+        .iter()
+        .map(|k| crate::units::omega_from_kr(*k, 1.0, G))
+        .collect();
+    let with_drift = |depth| ShipSweepParams {
         drift: true,
-        ..params(&ship, &[1.0], &[180.0], WaterDepth::Finite(10.0))
+        ..params(&ship, &omega, &[90.0, 135.0], depth)
     };
-    let e = run(&ship, &drift, &|_, _| {}).unwrap_err().to_string();
-    assert!(
-        e.contains("drift") && e.contains("deep water only") && e.contains("depth 10 m"),
-        "{e}"
-    );
-    // Deep water keeps the drift.
-    let deep = ShipSweepParams {
-        depth: WaterDepth::Infinite,
-        ..drift
+    let result = run(&ship, &with_drift(depth), &|_, _| {}).unwrap();
+    let deep = run(&ship, &with_drift(WaterDepth::Infinite), &|_, _| {}).unwrap();
+    let hull = ship.sections()[0].ship_section(&[]).unwrap();
+    let section_params = SweepParams {
+        kr: kr.to_vec(),
+        panels: with_drift(depth).panels,
+        extrapolation_levels: 2,
+        depth,
+        ..SweepParams::default()
     };
-    assert_eq!(run(&ship, &deep, &|_, _| {}).unwrap().drift.len(), 1);
+    let section = crate::sweep::run(&hull, &section_params, &|_, _| {}).unwrap();
+    for w in 0..kr.len() {
+        // Per rho g a^2 and metre; column 0: the wave towards +y (ship heading 90).
+        let mean = section.excitation[w].drift.as_ref().unwrap().mean_drift();
+        let scale = rho * G * length * mean.column(0).amax();
+        for i in 0..3 {
+            let expected = mean[(i, 0)] * rho * G * length;
+            for (h, share) in [(0, 1.0), (1, 0.5)] {
+                let ours = result.drift[w][(i, h)];
+                assert!(
+                    (ours - share * expected).abs() <= 1e-12 * scale,
+                    "kR {} DOF {i} heading {h}: {ours} vs {}",
+                    kr[w],
+                    share * expected
+                );
+            }
+        }
+        // The bottom moves the sway drift (the factor 1 + 2kh / sinh 2kh among others).
+        let (finite, deep) = (result.drift[w][(0, 0)], deep.drift[w][(0, 0)]);
+        assert!((finite - deep).abs() > 0.05 * deep.abs(), "{finite} {deep}");
+    }
+}
+
+#[test]
+fn bad_depths_are_refused_by_name() {
+    let ship = prism();
     for bad in [0.0, -3.0, f64::NAN] {
         let params = params(&ship, &[1.0], &[180.0], WaterDepth::Finite(bad));
         let e = run(&ship, &params, &|_, _| {}).unwrap_err().to_string();

@@ -78,8 +78,7 @@ pub struct ShipSweepParams {
     /// Water depth (the ship file's `depth`, `--water-depth`). Default deep water. Every
     /// wavenumber of the strip integration solves `omega^2 = g k tanh(k h)`
     /// ([`WaterDepth::wavenumber`]); each section is validated (one reaching the bottom is
-    /// refused) and solved in it, `A_inf` and the long-wave force included. The mean drift
-    /// (`drift`) is refused in finite depth.
+    /// refused) and solved in it, `A_inf`, the long-wave force and the mean drift included.
     pub depth: WaterDepth,
 }
 
@@ -438,13 +437,6 @@ pub fn run(
             depth: params.depth,
         };
         as_section.validate(hull).map_err(section_error(k))?;
-    }
-    // The sections' mean drift (`super::drift`) is a deep-water one.
-    if let (true, WaterDepth::Finite(h)) = (params.drift, params.depth) {
-        return Err(bad(format!(
-            "the ship's mean drift force (--drift) is computed in deep water only; water \
-             depth {h} m (leave out --drift, or the depth)"
-        )));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(params.threads)
