@@ -47,72 +47,101 @@ const REACH_PHASE: f64 = 4.0;
 /// Gauss-Legendre nodes per piece on the real axis (tested: within `2e-10` of the pair-by-pair
 /// panel integrals).
 const SEPARABLE_NODES: usize = 8;
+/// Upper limit of the quadrature, `M = UPPER / d`: the integrand's terms fall like `e^{-m d}`,
+/// `e^{-36}` is `2e-16`.
+const UPPER: f64 = 36.0;
+
+/// A row of [`FiniteDepthGreen::remainder_rows`]: the panel integrals at `point`
+/// (`direction` `None`), or their derivative along `direction` there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RemainderRow {
+    /// The field point, in the fluid strip.
+    pub point: Point,
+    /// `None`: the value; `Some(n)`: the derivative `n . grad` with respect to the field point.
+    pub direction: Option<[f64; 2]>,
+}
 
 /// Panel integrals of `G_h - G_inf - (1/2pi) ln r2` (the finite-depth Green function minus the
-/// deep-water one of the same `nu` and the bottom image) for a list of field points and
+/// deep-water one of the same `nu` and the bottom image): one row per [`RemainderRow`], one
+/// column per panel.
+#[derive(Clone, Debug)]
+pub struct RemainderMatrix {
+    real: Mat<f64>,
+    imaginary: Mat<f64>,
+}
+
+impl RemainderMatrix {
+    /// Row `row`, panel `p`.
+    pub fn get(&self, row: usize, p: usize) -> Complex64 {
+        Complex64::new(self.real.read(row, p), self.imaginary.read(row, p))
+    }
+}
+
+/// Panel integrals of `G_h - G_inf - (1/2pi) ln r2` for a list of field points and
 /// panels: value and gradient of `sum` over the panel, `[value, d/dx, d/dy]`.
 #[derive(Clone, Debug)]
 pub struct RemainderIntegrals {
     /// Rows `[values; d/dx; d/dy]` (each `fields` rows), one column per panel.
-    real: Mat<f64>,
-    imaginary: Mat<f64>,
+    rows: RemainderMatrix,
     fields: usize,
 }
 
 impl RemainderIntegrals {
     /// `int G ds` of panel `p` at field point `i`.
     pub fn value(&self, i: usize, p: usize) -> Complex64 {
-        Complex64::new(self.real.read(i, p), self.imaginary.read(i, p))
+        self.rows.get(i, p)
     }
 
     /// `grad int G ds` of panel `p` at field point `i`.
     pub fn gradient(&self, i: usize, p: usize) -> [Complex64; 2] {
-        let (x, y) = (i + self.fields, i + 2 * self.fields);
         [
-            Complex64::new(self.real.read(x, p), self.imaginary.read(x, p)),
-            Complex64::new(self.real.read(y, p), self.imaginary.read(y, p)),
+            self.rows.get(i + self.fields, p),
+            self.rows.get(i + 2 * self.fields, p),
         ]
     }
 }
 
-/// `L e^{alpha . c} sinh(s)/s`, `s = alpha . (b - a)/2`: `int e^{alpha . x} ds` over `a -> b`.
-fn exponential_integral(alpha: [Complex64; 2], shift: Complex64, a: Point, b: Point) -> Complex64 {
-    let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-    let half = (alpha[0] * (b[0] - a[0]) + alpha[1] * (b[1] - a[1])) * 0.5;
-    let shape = if half.norm() < 1e-4 {
-        Complex64::new(1.0, 0.0) + half * half / 6.0
-    } else {
-        half.sinh() / half
-    };
-    (alpha[0] * centre[0] + alpha[1] * centre[1] + shift).exp() * (shape * length)
+/// A straight panel's centre, length and half extent `(b - a)/2`.
+#[derive(Clone, Copy)]
+struct Shape {
+    centre: Point,
+    length: f64,
+    half: [f64; 2],
 }
 
-/// `(int cos(m x0) e^{beta m y0 + shift} ds, int sin(...) ds)` over `a -> b`.
-fn trig_exponential(
-    m: Complex64,
-    beta: f64,
-    shift: Complex64,
-    a: Point,
-    b: Point,
-) -> [Complex64; 2] {
-    let i = Complex64::new(0.0, 1.0);
-    let plus = exponential_integral([i * m, beta * m], shift, a, b);
-    let minus = exponential_integral([-i * m, beta * m], shift, a, b);
-    [(plus + minus) * 0.5, (plus - minus) / (2.0 * i)]
+impl Shape {
+    fn new([a, b]: [Point; 2]) -> Self {
+        Self {
+            centre: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
+            length: (b[0] - a[0]).hypot(b[1] - a[1]),
+            half: [0.5 * (b[0] - a[0]), 0.5 * (b[1] - a[1])],
+        }
+    }
 }
 
-/// Field factors of one node: `[f, df/dx, df/dy]` of `e^{m y} cos mx`, `e^{m y} sin mx`,
-/// `e^{-m(y+h)} cos mx`, `e^{-m(y+h)} sin mx`.
-fn field_factors(m: Complex64, h: f64, p: Point) -> [[Complex64; 3]; 4] {
-    let (cos, sin) = ((m * p[0]).cos(), (m * p[0]).sin());
-    let up = (m * p[1]).exp();
-    let down = (-m * (p[1] + h)).exp();
+/// One row's entries from `[f, df/dx, df/dy]` of the four field factors.
+fn row_entries<T>(direction: Option<[f64; 2]>, factors: [[T; 3]; 4]) -> [T; 4]
+where
+    T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
+{
+    match direction {
+        None => factors.map(|f| f[0]),
+        Some([nx, ny]) => factors.map(|f| f[1] * nx + f[2] * ny),
+    }
+}
+
+/// `[f, df/dx, df/dy]` of `e^{my} cos mx`, `e^{my} sin mx`, `e^{-m(y+h)} cos mx`,
+/// `e^{-m(y+h)} sin mx` from `up = e^{my}`, `down = e^{-m(y+h)}`, `cos mx`, `sin mx`.
+fn field_factors<T>(m: T, up: T, down: T, cos: T, sin: T) -> [[T; 3]; 4]
+where
+    T: Copy + std::ops::Mul<Output = T> + std::ops::Neg<Output = T>,
+{
+    let (mu, md) = (m * up, m * down);
     [
-        [up * cos, -m * up * sin, m * up * cos],
-        [up * sin, m * up * cos, m * up * sin],
-        [down * cos, -m * down * sin, -m * down * cos],
-        [down * sin, m * down * cos, -m * down * sin],
+        [up * cos, -(mu * sin), mu * cos],
+        [up * sin, mu * cos, mu * sin],
+        [down * cos, -(md * sin), -(md * cos)],
+        [down * sin, md * cos, -(md * sin)],
     ]
 }
 
@@ -122,7 +151,7 @@ impl FiniteDepthGreen {
     /// integrand, whose terms decay at least like `e^{-m (2h - span)}`).
     pub(crate) fn remainder_nodes(&self, reach: f64, span: f64) -> Vec<(Complex64, Complex64)> {
         let h = self.depth;
-        let upper = 50.0 / (2.0 * h - span).clamp(h, 2.0 * h);
+        let upper = UPPER / (2.0 * h - span).clamp(h, 2.0 * h);
         let arcs = self.arcs(h);
         let breaks = self.break_points(upper, &arcs);
         let arcs = arcs.iter().flatten();
@@ -164,147 +193,223 @@ impl FiniteDepthGreen {
         fields: &[Point],
         panels: &[[Point; 2]],
     ) -> RemainderIntegrals {
-        let (nu, h, k) = (self.nu, self.depth, self.k0);
-        let xs = fields.iter().chain(panels.iter().flatten()).map(|p| p[0]);
-        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-        let span = fields
+        let directions = [None, Some([1.0, 0.0]), Some([0.0, 1.0])];
+        let rows: Vec<RemainderRow> = directions
             .iter()
-            .chain(panels.iter().flatten())
-            .map(|p| -p[1])
-            .fold(0.0, f64::max);
-        let nodes = self.remainder_nodes((hi - lo).max(0.0), span);
-        // Per point (field points, then panel centres): cos mx, sin mx, e^{my}, e^{-m(y+h)}.
-        let centres: Vec<Point> = panels
-            .iter()
-            .map(|[a, b]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])])
+            .flat_map(|&direction| {
+                fields
+                    .iter()
+                    .map(move |&point| RemainderRow { point, direction })
+            })
             .collect();
-        let columns: usize = nodes
+        RemainderIntegrals {
+            rows: self.remainder_rows(&rows, panels),
+            fields: fields.len(),
+        }
+    }
+
+    /// The panel integrals of the remainder over every panel `a -> b` of `panels` for every
+    /// row of `rows` (points in the fluid strip), by the separable form of the module docs:
+    /// one real matrix product, whose inner dimension is four per real node of the
+    /// quadrature and eight per complex one. Consecutive rows at the same point share its
+    /// factors.
+    pub fn remainder_rows(&self, rows: &[RemainderRow], panels: &[[Point; 2]]) -> RemainderMatrix {
+        let points = rows
             .iter()
-            .map(|(m, w)| if m.im == 0.0 && w.im == 0.0 { 4 } else { 8 })
+            .map(|r| r.point)
+            .chain(panels.iter().flatten().copied());
+        let (lo, hi, span) = points.fold(
+            (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
+            |(lo, hi, span), p| (lo.min(p[0]), hi.max(p[0]), span.max(-p[1])),
+        );
+        let nodes = self.remainder_nodes((hi - lo).max(0.0), span);
+        let shapes: Vec<Shape> = panels.iter().map(|&panel| Shape::new(panel)).collect();
+        let inner: usize = nodes
+            .iter()
+            .map(|(m, w)| if is_real(*m, *w) { 4 } else { 8 })
             .sum();
-        let rows = 3 * fields.len();
-        let mut left = Mat::<f64>::zeros(rows, columns);
-        let mut right = Mat::<f64>::zeros(columns, panels.len());
+        // Transposed left factor: column r holds row r's field factors.
+        let mut left = Mat::<f64>::zeros(inner, rows.len());
+        let mut right = Mat::<f64>::zeros(inner, panels.len());
         let mut constant = 0.0;
         let mut column = 0;
         for &(m, weight) in &nodes {
-            let q = (-2.0 * h * m).exp();
+            let q = (-2.0 * self.depth * m).exp();
             constant -= (weight * q / (2.0 * m)).re;
-            let c = weight * (m + nu) / (2.0 * m * ((nu - m) + (nu + m) * q));
-            let tau = (nu + m) / (nu - m);
-            let real = m.im == 0.0 && weight.im == 0.0;
-            if real {
-                let (m, c) = (m.re, c.re);
-                let (tau, decay, decay2) = (tau.re, (-m * h).exp(), q.re);
-                let factors = |p: Point| {
-                    let (s, co) = (m * p[0]).sin_cos();
-                    (co, s, (m * p[1]).exp(), (-m * (p[1] + h)).exp())
-                };
-                for (i, &field) in fields.iter().enumerate() {
-                    let (co, s, up, down) = factors(field);
-                    let n = fields.len();
-                    let rows = [
-                        [up * co, -m * up * s, m * up * co],
-                        [up * s, m * up * co, m * up * s],
-                        [down * co, -m * down * s, -m * down * co],
-                        [down * s, m * down * co, -m * down * s],
-                    ];
-                    for (t, f) in rows.iter().enumerate() {
-                        for (d, v) in f.iter().enumerate() {
-                            left.write(i + d * n, column + t, *v);
-                        }
-                    }
-                }
-                for (p, (&[a, b], &centre)) in panels.iter().zip(&centres).enumerate() {
-                    let (co, s, up, down) = factors(centre);
-                    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                    let phase = Complex64::new(co, s) * (c * length);
-                    // int e^{i m x0 +- m y0} ds = L e^{i m xc +- m yc} sinhc(m (i dx +- dy)/2).
-                    let rising = phase * sinhc(Complex64::new(0.5 * m * dy, 0.5 * m * dx));
-                    let falling = phase * sinhc(Complex64::new(-0.5 * m * dy, 0.5 * m * dx));
-                    let g1 = falling * (decay * down) - rising * (tau * decay2 * up);
-                    let g2 = falling * (decay2 * down) + rising * (decay * up);
-                    for (t, v) in [g1.re, g1.im, g2.re, g2.im].into_iter().enumerate() {
-                        right.write(column + t, p, v);
-                    }
-                }
+            if is_real(m, weight) {
+                self.real_node(
+                    m.re, weight.re, rows, &shapes, column, &mut left, &mut right,
+                );
                 column += 4;
-                continue;
+            } else {
+                self.complex_node(m, weight, rows, &shapes, column, &mut left, &mut right);
+                column += 8;
             }
-            for (i, &field) in fields.iter().enumerate() {
-                for (t, f) in field_factors(m, h, field).iter().enumerate() {
-                    for (d, v) in f.iter().enumerate() {
-                        left.write(i + d * fields.len(), column + t, v.re);
-                        if !real {
-                            left.write(i + d * fields.len(), column + 4 + t, -v.im);
-                        }
-                    }
-                }
-            }
-            for (p, &[a, b]) in panels.iter().enumerate() {
-                let g1a = trig_exponential(m, -1.0, -2.0 * h * m, a, b);
-                let g1b = trig_exponential(m, 1.0, -2.0 * h * m, a, b);
-                let g2a = trig_exponential(m, -1.0, -3.0 * h * m, a, b);
-                let g2b = trig_exponential(m, 1.0, -h * m, a, b);
-                let source = [
-                    c * (g1a[0] - tau * g1b[0]),
-                    c * (g1a[1] - tau * g1b[1]),
-                    c * (g2a[0] + g2b[0]),
-                    c * (g2a[1] + g2b[1]),
-                ];
-                for (t, s) in source.iter().enumerate() {
-                    right.write(column + t, p, s.re);
-                    if !real {
-                        right.write(column + 4 + t, p, s.im);
-                    }
-                }
-            }
-            column += if real { 4 } else { 8 };
         }
-        let mut real = Mat::<f64>::zeros(rows, panels.len());
+        let mut real = Mat::<f64>::zeros(rows.len(), panels.len());
         faer::linalg::matmul::matmul(
             real.as_mut(),
-            left.as_ref(),
+            left.transpose(),
             right.as_ref(),
             None,
             1.0 / PI,
             faer::Parallelism::None,
         );
-        let constant = constant / PI - (2.0 * h).ln() / (2.0 * PI);
-        for (p, &[a, b]) in panels.iter().enumerate() {
-            let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-            for i in 0..fields.len() {
-                real.write(i, p, real.read(i, p) + constant * length);
+        let constant = constant / PI - (2.0 * self.depth).ln() / (2.0 * PI);
+        for (p, shape) in shapes.iter().enumerate() {
+            for (r, row) in rows.iter().enumerate() {
+                if row.direction.is_none() {
+                    real.write(r, p, real.read(r, p) + constant * shape.length);
+                }
             }
         }
-        // Imaginary part: the propagating modes, finite depth minus deep water.
-        let mut left = Mat::<f64>::zeros(rows, 4);
+        RemainderMatrix {
+            real,
+            imaginary: self.propagating_rows(rows, panels),
+        }
+    }
+
+    /// The four columns of a real node `m` (weight `weight`) from `column` on.
+    #[allow(clippy::too_many_arguments)]
+    fn real_node(
+        &self,
+        m: f64,
+        weight: f64,
+        rows: &[RemainderRow],
+        shapes: &[Shape],
+        column: usize,
+        left: &mut Mat<f64>,
+        right: &mut Mat<f64>,
+    ) {
+        let (nu, h) = (self.nu, self.depth);
+        let decay = (-m * h).exp();
+        let q = decay * decay;
+        let c = weight * (m + nu) / (2.0 * m * ((nu - m) + (nu + m) * q));
+        let tau = (nu + m) / (nu - m);
+        let mut last: Option<(Point, [[f64; 3]; 4])> = None;
+        for (r, row) in rows.iter().enumerate() {
+            let factors = match last {
+                Some((point, factors)) if point == row.point => factors,
+                _ => {
+                    let (sin, cos) = (m * row.point[0]).sin_cos();
+                    let up = (m * row.point[1]).exp();
+                    let factors = field_factors(m, up, decay / up, cos, sin);
+                    last = Some((row.point, factors));
+                    factors
+                }
+            };
+            let entries = row_entries(row.direction, factors);
+            left.col_as_slice_mut(r)[column..column + 4].copy_from_slice(&entries);
+        }
+        for (p, shape) in shapes.iter().enumerate() {
+            let [xc, yc] = shape.centre;
+            let (sin, cos) = (m * xc).sin_cos();
+            let up = (m * yc).exp();
+            let phase = Complex64::new(cos, sin) * (c * shape.length);
+            let [hx, hy] = shape.half;
+            // int e^{i m x0 +- m y0} ds = L e^{i m xc +- m yc} sinhc(m (i dx +- dy)/2).
+            let rising = phase * sinhc(Complex64::new(m * hy, m * hx));
+            let falling = phase * sinhc(Complex64::new(-m * hy, m * hx));
+            let g1 = falling * (q / up) - rising * (tau * q * up);
+            let g2 = falling * (q * decay / up) + rising * (decay * up);
+            right.col_as_slice_mut(p)[column..column + 4]
+                .copy_from_slice(&[g1.re, g1.im, g2.re, g2.im]);
+        }
+    }
+
+    /// The eight columns of a complex node `m` (weight `weight`, on a half circle over the
+    /// poles) from `column` on: the real and imaginary parts of the factors, `Re(a b) =
+    /// Re a Re b - Im a Im b`.
+    #[allow(clippy::too_many_arguments)]
+    fn complex_node(
+        &self,
+        m: Complex64,
+        weight: Complex64,
+        rows: &[RemainderRow],
+        shapes: &[Shape],
+        column: usize,
+        left: &mut Mat<f64>,
+        right: &mut Mat<f64>,
+    ) {
+        let (nu, h) = (self.nu, self.depth);
+        let i = Complex64::new(0.0, 1.0);
+        let decay = (-h * m).exp();
+        let q = decay * decay;
+        let c = weight * (m + nu) / (2.0 * m * ((nu - m) + (nu + m) * q));
+        let tau = (nu + m) / (nu - m);
+        for (r, row) in rows.iter().enumerate() {
+            let [x, y] = row.point;
+            let phase = (i * m * x).exp();
+            let (cos, sin) = (
+                (phase + phase.inv()) * 0.5,
+                (phase - phase.inv()) / (2.0 * i),
+            );
+            let up = (m * y).exp();
+            let entries = row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
+            let target = &mut left.col_as_slice_mut(r)[column..column + 8];
+            for (t, v) in entries.iter().enumerate() {
+                target[t] = v.re;
+                target[t + 4] = -v.im;
+            }
+        }
+        for (p, shape) in shapes.iter().enumerate() {
+            let [xc, yc] = shape.centre;
+            let [hx, hy] = shape.half;
+            let phase = (i * m * xc).exp();
+            let up = (m * yc).exp();
+            // int e^{+-i m x0 + s m y0} ds = L e^{+-i m xc + s m yc} sinhc(m (+-i hx + s hy)),
+            // sinhc even.
+            let (same, opposite) = (sinhc(m * (i * hx + hy)), sinhc(m * (i * hx - hy)));
+            let length = c * shape.length;
+            let (plus_up, minus_up) = (phase * up * same, up / phase * opposite);
+            let (plus_down, minus_down) = (phase / up * opposite, same / (phase * up));
+            let trig = |plus: Complex64, minus: Complex64| {
+                [
+                    (plus + minus) * 0.5 * length,
+                    (plus - minus) / (2.0 * i) * length,
+                ]
+            };
+            let [cos_up, sin_up] = trig(plus_up, minus_up);
+            let [cos_down, sin_down] = trig(plus_down, minus_down);
+            let source = [
+                q * (cos_down - tau * cos_up),
+                q * (sin_down - tau * sin_up),
+                q * decay * cos_down + decay * cos_up,
+                q * decay * sin_down + decay * sin_up,
+            ];
+            let target = &mut right.col_as_slice_mut(p)[column..column + 8];
+            for (t, s) in source.iter().enumerate() {
+                target[t] = s.re;
+                target[t + 4] = s.im;
+            }
+        }
+    }
+
+    /// The imaginary part: the propagating mode `A0 Z0(y) Z0(y0) cos k0 X` less the deep-water
+    /// wave `e^{nu Y} cos nu X`, four separable terms.
+    fn propagating_rows(&self, rows: &[RemainderRow], panels: &[[Point; 2]]) -> Mat<f64> {
+        let (nu, h, k) = (self.nu, self.depth, self.k0);
+        let mut left = Mat::<f64>::zeros(4, rows.len());
         let mut right = Mat::<f64>::zeros(4, panels.len());
         let norm = {
             let q = (-2.0 * k * h).exp();
             4.0 * k * h * q + (1.0 - q * q)
         };
-        for (i, &[x, y]) in fields.iter().enumerate() {
+        for (r, row) in rows.iter().enumerate() {
+            let [x, y] = row.point;
             let profile = (k * y).exp() + (-k * (y + 2.0 * h)).exp();
             let slope = k * ((k * y).exp() - (-k * (y + 2.0 * h)).exp());
             let deep = (nu * y).exp();
             let (s, c) = (k * x).sin_cos();
             let (sd, cd) = (nu * x).sin_cos();
-            let n = fields.len();
-            let values = [
+            let factors = [
                 [profile * c, -k * profile * s, slope * c],
                 [profile * s, k * profile * c, slope * s],
                 [deep * cd, -nu * deep * sd, nu * deep * cd],
                 [deep * sd, nu * deep * cd, nu * deep * sd],
             ];
-            for (t, v) in values.iter().enumerate() {
-                for (d, value) in v.iter().enumerate() {
-                    left.write(i + d * n, t, *value);
-                }
-            }
+            left.col_as_slice_mut(r)
+                .copy_from_slice(&row_entries(row.direction, factors));
         }
         for (p, &[a, b]) in panels.iter().enumerate() {
             let zero = Complex64::new(0.0, 0.0);
@@ -313,31 +418,56 @@ impl FiniteDepthGreen {
             let up = trig_exponential(kc, 1.0, zero, a, b);
             let down = trig_exponential(kc, -1.0, Complex64::new(-2.0 * k * h, 0.0), a, b);
             let deep = trig_exponential(nc, 1.0, zero, a, b);
-            let source = [
+            right.col_as_slice_mut(p).copy_from_slice(&[
                 (up[0] + down[0]).re / norm,
                 (up[1] + down[1]).re / norm,
                 -deep[0].re,
                 -deep[1].re,
-            ];
-            for (t, s) in source.iter().enumerate() {
-                right.write(t, p, *s);
-            }
+            ]);
         }
-        let mut imaginary = Mat::<f64>::zeros(rows, panels.len());
+        let mut imaginary = Mat::<f64>::zeros(rows.len(), panels.len());
         faer::linalg::matmul::matmul(
             imaginary.as_mut(),
-            left.as_ref(),
+            left.transpose(),
             right.as_ref(),
             None,
             1.0,
             faer::Parallelism::None,
         );
-        RemainderIntegrals {
-            real,
-            imaginary,
-            fields: fields.len(),
-        }
+        imaginary
     }
+}
+
+/// Whether a quadrature node lies on the real axis (four columns) or on a half circle.
+fn is_real(m: Complex64, weight: Complex64) -> bool {
+    m.im == 0.0 && weight.im == 0.0
+}
+
+/// `L e^{alpha . c} sinh(s)/s`, `s = alpha . (b - a)/2`: `int e^{alpha . x} ds` over `a -> b`.
+fn exponential_integral(alpha: [Complex64; 2], shift: Complex64, a: Point, b: Point) -> Complex64 {
+    let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let half = (alpha[0] * (b[0] - a[0]) + alpha[1] * (b[1] - a[1])) * 0.5;
+    let shape = if half.norm() < 1e-4 {
+        Complex64::new(1.0, 0.0) + half * half / 6.0
+    } else {
+        half.sinh() / half
+    };
+    (alpha[0] * centre[0] + alpha[1] * centre[1] + shift).exp() * (shape * length)
+}
+
+/// `(int cos(m x0) e^{beta m y0 + shift} ds, int sin(...) ds)` over `a -> b`.
+fn trig_exponential(
+    m: Complex64,
+    beta: f64,
+    shift: Complex64,
+    a: Point,
+    b: Point,
+) -> [Complex64; 2] {
+    let i = Complex64::new(0.0, 1.0);
+    let plus = exponential_integral([i * m, beta * m], shift, a, b);
+    let minus = exponential_integral([-i * m, beta * m], shift, a, b);
+    [(plus + minus) * 0.5, (plus - minus) / (2.0 * i)]
 }
 
 /// `sinh(z)/z`.
