@@ -40,6 +40,7 @@ use super::{gauss_legendre, FiniteDepthGreen, PANEL_NODES};
 use crate::green::{FreeSurface, Point};
 use faer::Mat;
 use num_complex::Complex64;
+use std::collections::HashMap;
 use std::f64::consts::PI;
 
 /// Largest phase `m |X|` a quadrature piece spans.
@@ -101,22 +102,74 @@ impl RemainderIntegrals {
     }
 }
 
-/// A straight panel's centre, length and half extent `(b - a)/2`.
+/// Columns of the separable product computed and multiplied at a time (the factors stay
+/// small, within the cache and the allocator's reused memory).
+const INNER_BLOCK: usize = 64;
+/// Taylor terms of `sinh(z)/z` kept where `|z| < 1/2` (error below `1e-16`).
+const SINHC_TERMS: usize = 7;
+
+/// A straight panel's centre, length and half extent `(b - a)/2`, with the Taylor
+/// coefficients in `m^2` of `sinh(m u)/(m u)`, `u = half_y + i half_x`.
 #[derive(Clone, Copy)]
 struct Shape {
     centre: Point,
     length: f64,
     half: [f64; 2],
+    /// `u^{2k}/(2k + 1)!`.
+    series: [Complex64; SINHC_TERMS],
 }
 
 impl Shape {
     fn new([a, b]: [Point; 2]) -> Self {
+        let half = [0.5 * (b[0] - a[0]), 0.5 * (b[1] - a[1])];
+        let u2 = Complex64::new(half[1], half[0]).powi(2);
+        let mut series = [Complex64::new(1.0, 0.0); SINHC_TERMS];
+        for k in 1..SINHC_TERMS {
+            series[k] = series[k - 1] * u2 / ((2 * k) * (2 * k + 1)) as f64;
+        }
         Self {
             centre: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
             length: (b[0] - a[0]).hypot(b[1] - a[1]),
-            half: [0.5 * (b[0] - a[0]), 0.5 * (b[1] - a[1])],
+            half,
+            series,
         }
     }
+
+    /// `sinh(m u)/(m u)` for real `m`; `sinh(m u')/(m u')`, `u' = -half_y + i half_x`, is
+    /// its conjugate.
+    fn sinhc(&self, m: f64) -> Complex64 {
+        let u = Complex64::new(self.half[1], self.half[0]);
+        if m * m * u.norm_sqr() < 0.25 {
+            let m2 = m * m;
+            self.series
+                .iter()
+                .rev()
+                .fold(Complex64::new(0.0, 0.0), |sum, &a| sum * m2 + a)
+        } else {
+            sinhc(u * m)
+        }
+    }
+}
+
+/// The distinct points of the rows and the panels' centres: the panels' centres first,
+/// then the rows' other points; and each row's index among them.
+fn distinct_points(rows: &[RemainderRow], shapes: &[Shape]) -> (Vec<Point>, Vec<usize>) {
+    let key = |p: Point| (p[0].to_bits(), p[1].to_bits());
+    let mut points: Vec<Point> = shapes.iter().map(|s| s.centre).collect();
+    let mut index: HashMap<(u64, u64), usize> = HashMap::with_capacity(points.len());
+    for (i, &p) in points.iter().enumerate() {
+        index.entry(key(p)).or_insert(i);
+    }
+    let of_row = rows
+        .iter()
+        .map(|row| {
+            *index.entry(key(row.point)).or_insert_with(|| {
+                points.push(row.point);
+                points.len() - 1
+            })
+        })
+        .collect();
+    (points, of_row)
 }
 
 /// One row's entries from `[f, df/dx, df/dy]` of the four field factors.
@@ -224,37 +277,44 @@ impl FiniteDepthGreen {
         );
         let nodes = self.remainder_nodes((hi - lo).max(0.0), span);
         let shapes: Vec<Shape> = panels.iter().map(|&panel| Shape::new(panel)).collect();
-        let inner: usize = nodes
-            .iter()
-            .map(|(m, w)| if is_real(*m, *w) { 4 } else { 8 })
-            .sum();
-        // Transposed left factor: column r holds row r's field factors.
-        let mut left = Mat::<f64>::zeros(inner, rows.len());
-        let mut right = Mat::<f64>::zeros(inner, panels.len());
+        let (points, of_row) = distinct_points(rows, &shapes);
+        // Per distinct point and real node: cos mx, sin mx, e^{my}.
+        let mut trig = Vec::with_capacity(points.len());
+        // Transposed left factor: column r holds row r's field factors. The nodes go in
+        // blocks of at most INNER_BLOCK columns, accumulated.
+        let mut left = Mat::<f64>::zeros(INNER_BLOCK, rows.len());
+        let mut right = Mat::<f64>::zeros(INNER_BLOCK, panels.len());
+        let mut real = Mat::<f64>::zeros(rows.len(), panels.len());
         let mut constant = 0.0;
-        let mut column = 0;
+        let (mut column, mut first) = (0, true);
         for &(m, weight) in &nodes {
             let q = (-2.0 * self.depth * m).exp();
             constant -= (weight * q / (2.0 * m)).re;
+            let columns = if is_real(m, weight) { 4 } else { 8 };
+            if column + columns > INNER_BLOCK {
+                accumulate(&mut real, &left, &right, column, first);
+                (column, first) = (0, false);
+            }
             if is_real(m, weight) {
-                self.real_node(
-                    m.re, weight.re, rows, &shapes, column, &mut left, &mut right,
-                );
-                column += 4;
+                let m = m.re;
+                trig.clear();
+                trig.extend(points.iter().map(|p| {
+                    let (sin, cos) = (m * p[0]).sin_cos();
+                    [cos, sin, (m * p[1]).exp()]
+                }));
+                let node = RealNode {
+                    m,
+                    weight: weight.re,
+                    trig: &trig,
+                    of_row: &of_row,
+                };
+                self.real_node(&node, rows, &shapes, column, &mut left, &mut right);
             } else {
                 self.complex_node(m, weight, rows, &shapes, column, &mut left, &mut right);
-                column += 8;
             }
+            column += columns;
         }
-        let mut real = Mat::<f64>::zeros(rows.len(), panels.len());
-        faer::linalg::matmul::matmul(
-            real.as_mut(),
-            left.transpose(),
-            right.as_ref(),
-            None,
-            1.0 / PI,
-            faer::Parallelism::None,
-        );
+        accumulate(&mut real, &left, &right, column, first);
         let constant = constant / PI - (2.0 * self.depth).ln() / (2.0 * PI);
         for (p, shape) in shapes.iter().enumerate() {
             for (r, row) in rows.iter().enumerate() {
@@ -269,47 +329,32 @@ impl FiniteDepthGreen {
         }
     }
 
-    /// The four columns of a real node `m` (weight `weight`) from `column` on.
-    #[allow(clippy::too_many_arguments)]
+    /// The four columns of a real node from `column` on.
     fn real_node(
         &self,
-        m: f64,
-        weight: f64,
+        node: &RealNode,
         rows: &[RemainderRow],
         shapes: &[Shape],
         column: usize,
         left: &mut Mat<f64>,
         right: &mut Mat<f64>,
     ) {
-        let (nu, h) = (self.nu, self.depth);
+        let (nu, h, m) = (self.nu, self.depth, node.m);
         let decay = (-m * h).exp();
         let q = decay * decay;
-        let c = weight * (m + nu) / (2.0 * m * ((nu - m) + (nu + m) * q));
+        let c = node.weight * (m + nu) / (2.0 * m * ((nu - m) + (nu + m) * q));
         let tau = (nu + m) / (nu - m);
-        let mut last: Option<(Point, [[f64; 3]; 4])> = None;
         for (r, row) in rows.iter().enumerate() {
-            let factors = match last {
-                Some((point, factors)) if point == row.point => factors,
-                _ => {
-                    let (sin, cos) = (m * row.point[0]).sin_cos();
-                    let up = (m * row.point[1]).exp();
-                    let factors = field_factors(m, up, decay / up, cos, sin);
-                    last = Some((row.point, factors));
-                    factors
-                }
-            };
-            let entries = row_entries(row.direction, factors);
+            let [cos, sin, up] = node.trig[node.of_row[r]];
+            let entries = row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
             left.col_as_slice_mut(r)[column..column + 4].copy_from_slice(&entries);
         }
         for (p, shape) in shapes.iter().enumerate() {
-            let [xc, yc] = shape.centre;
-            let (sin, cos) = (m * xc).sin_cos();
-            let up = (m * yc).exp();
+            let [cos, sin, up] = node.trig[p];
             let phase = Complex64::new(cos, sin) * (c * shape.length);
-            let [hx, hy] = shape.half;
             // int e^{i m x0 +- m y0} ds = L e^{i m xc +- m yc} sinhc(m (i dx +- dy)/2).
-            let rising = phase * sinhc(Complex64::new(m * hy, m * hx));
-            let falling = phase * sinhc(Complex64::new(-m * hy, m * hx));
+            let sinhc = shape.sinhc(m);
+            let (rising, falling) = (phase * sinhc, phase * sinhc.conj());
             let g1 = falling * (q / up) - rising * (tau * q * up);
             let g2 = falling * (q * decay / up) + rising * (decay * up);
             right.col_as_slice_mut(p)[column..column + 4]
@@ -438,6 +483,27 @@ impl FiniteDepthGreen {
     }
 }
 
+/// A real quadrature node `m`, its weight, and per distinct point `[cos mx, sin mx, e^{my}]`
+/// (the panels' centres first) with each row's point's index.
+struct RealNode<'a> {
+    m: f64,
+    weight: f64,
+    trig: &'a [[f64; 3]],
+    of_row: &'a [usize],
+}
+
+/// `real = (first ? 0 : real) + left^T right / pi` over the first `columns` rows of the factors.
+fn accumulate(real: &mut Mat<f64>, left: &Mat<f64>, right: &Mat<f64>, columns: usize, first: bool) {
+    faer::linalg::matmul::matmul(
+        real.as_mut(),
+        left.as_ref().subrows(0, columns).transpose(),
+        right.as_ref().subrows(0, columns),
+        (!first).then_some(1.0),
+        1.0 / PI,
+        faer::Parallelism::None,
+    );
+}
+
 /// Whether a quadrature node lies on the real axis (four columns) or on a half circle.
 fn is_real(m: Complex64, weight: Complex64) -> bool {
     m.im == 0.0 && weight.im == 0.0
@@ -538,8 +604,11 @@ pub fn limit_remainder(
     )
 }
 
-/// `int limit_remainder ds0` over `a -> b` and its gradient, by
-/// [`PANEL_NODES`]-point Gauss-Legendre (the remainder is smooth on the scale of `h`).
+/// `int limit_remainder ds0` over `a -> b` and its gradient, by Gauss-Legendre: the
+/// remainder's nearest singularity lies at least `d = 2h - max |y - y0|` from the field
+/// point, so `n` nodes err like `rho^{-2n}`, `rho = 4 (d - L) / L` (the Bernstein ellipse
+/// through it, `L` the panel length); `n` from 2 for `rho^{-2n} < 1e-16`, at most
+/// [`PANEL_NODES`].
 pub fn limit_remainder_integral(
     surface: FreeSurface,
     depth: f64,
@@ -547,9 +616,17 @@ pub fn limit_remainder_integral(
     a: Point,
     b: Point,
 ) -> (f64, [f64; 2]) {
-    let half = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let half = 0.5 * length;
+    let reach = 2.0 * depth - (field[1] - a[1]).abs().max((field[1] - b[1]).abs());
+    let rho = 4.0 * (reach - length) / length;
+    let nodes = if rho > 1.0 {
+        ((16.0 * 10f64.ln()) / (2.0 * rho.ln())).ceil() as usize
+    } else {
+        PANEL_NODES
+    };
     let mut out = (0.0, [0.0, 0.0]);
-    for (t, w) in gauss_legendre(PANEL_NODES) {
+    for (t, w) in gauss_legendre(nodes.clamp(2, PANEL_NODES)) {
         let s = 0.5 * (1.0 + t);
         let source = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
         let (v, g) = limit_remainder(surface, depth, field, source);
