@@ -19,6 +19,15 @@
 //! deep-water wave) splits the same way with four terms. The term `-e^{-2mh}/(2m)` and
 //! `-(1/2pi) ln 2h` are constants.
 //!
+//! # Cost
+//! Only the rows a caller needs ([`RemainderRow`]: a value, or one directional derivative).
+//! The factors `cos mx`, `sin mx`, `e^{my}` of a point serve both as a field point and as a
+//! panel's centre; `sinh(z)/z` of a panel is one series in `m^2`. Panels that are mirror
+//! images in `x = 0` share their factors: the `cos m x0` terms are even in `x0`, the
+//! `sin m x0` terms odd, so with `E`, `O` the two halves of the product over one panel of
+//! each pair, the pair's columns are `E + O` and `E - O` (half the product's work). The
+//! nodes go in blocks of [`HALF_BLOCK`] columns per parity.
+//!
 //! # The limits
 //! `omega -> inf` (`G = 0` on `y = 0`, `dG/dy = 0` on `y = -h`): images of alternating sign
 //! every `2h`, summed in closed form (`w = z - z0`, `w' = z - conj z0`, `z = x + iy`):
@@ -49,8 +58,8 @@ const REACH_PHASE: f64 = 4.0;
 /// panel integrals).
 const SEPARABLE_NODES: usize = 8;
 /// Upper limit of the quadrature, `M = UPPER / d`: the integrand's terms fall like `e^{-m d}`,
-/// `e^{-36}` is `2e-16`.
-const UPPER: f64 = 36.0;
+/// `e^{-30}` is `1e-13`.
+const UPPER: f64 = 30.0;
 
 /// A row of [`FiniteDepthGreen::remainder_rows`]: the panel integrals at `point`
 /// (`direction` `None`), or their derivative along `direction` there.
@@ -102,9 +111,9 @@ impl RemainderIntegrals {
     }
 }
 
-/// Columns of the separable product computed and multiplied at a time (the factors stay
-/// small, within the cache and the allocator's reused memory).
-const INNER_BLOCK: usize = 64;
+/// Columns of each parity of the separable product computed and multiplied at a time (the
+/// factors stay small, within the cache and the allocator's reused memory).
+const HALF_BLOCK: usize = 32;
 /// Taylor terms of `sinh(z)/z` kept where `|z| < 1/2` (error below `1e-16`).
 const SINHC_TERMS: usize = 7;
 
@@ -277,23 +286,23 @@ impl FiniteDepthGreen {
         );
         let nodes = self.remainder_nodes((hi - lo).max(0.0), span);
         let shapes: Vec<Shape> = panels.iter().map(|&panel| Shape::new(panel)).collect();
-        let (points, of_row) = distinct_points(rows, &shapes);
+        // Mirror pairs of panels: the second's columns from the first's factors.
+        let partner = mirror_partners(&shapes);
+        let mut is_partner = vec![false; panels.len()];
+        partner.iter().flatten().for_each(|&q| is_partner[q] = true);
+        let kept: Vec<usize> = (0..panels.len()).filter(|&p| !is_partner[p]).collect();
+        let kept_shapes: Vec<Shape> = kept.iter().map(|&p| shapes[p]).collect();
+        let (points, of_row) = distinct_points(rows, &kept_shapes);
         // Per distinct point and real node: cos mx, sin mx, e^{my}.
         let mut trig = Vec::with_capacity(points.len());
-        // Transposed left factor: column r holds row r's field factors. The nodes go in
-        // blocks of at most INNER_BLOCK columns, accumulated.
-        let mut left = Mat::<f64>::zeros(INNER_BLOCK, rows.len());
-        let mut right = Mat::<f64>::zeros(INNER_BLOCK, panels.len());
-        let mut real = Mat::<f64>::zeros(rows.len(), panels.len());
+        let mut factors = Factors::new(rows.len(), kept.len());
         let mut constant = 0.0;
-        let (mut column, mut first) = (0, true);
         for &(m, weight) in &nodes {
             let q = (-2.0 * self.depth * m).exp();
             constant -= (weight * q / (2.0 * m)).re;
-            let columns = if is_real(m, weight) { 4 } else { 8 };
-            if column + columns > INNER_BLOCK {
-                accumulate(&mut real, &left, &right, column, first);
-                (column, first) = (0, false);
+            let columns = if is_real(m, weight) { 2 } else { 4 };
+            if factors.column + columns > HALF_BLOCK {
+                factors.accumulate();
             }
             if is_real(m, weight) {
                 let m = m.re;
@@ -308,13 +317,25 @@ impl FiniteDepthGreen {
                     trig: &trig,
                     of_row: &of_row,
                 };
-                self.real_node(&node, rows, &shapes, column, &mut left, &mut right);
+                self.real_node(&node, rows, &kept_shapes, &mut factors);
             } else {
-                self.complex_node(m, weight, rows, &shapes, column, &mut left, &mut right);
+                self.complex_node(m, weight, rows, &kept_shapes, &mut factors);
             }
-            column += columns;
+            factors.column += columns;
         }
-        accumulate(&mut real, &left, &right, column, first);
+        factors.accumulate();
+        // Even in x0 plus odd; the mirror image: even minus odd.
+        let [even, odd] = &factors.products;
+        let mut real = Mat::<f64>::zeros(rows.len(), panels.len());
+        for (k, &p) in kept.iter().enumerate() {
+            for r in 0..rows.len() {
+                let (e, o) = (even.read(r, k), odd.read(r, k));
+                real.write(r, p, e + o);
+                if let Some(q) = partner[p] {
+                    real.write(r, q, e - o);
+                }
+            }
+        }
         let constant = constant / PI - (2.0 * self.depth).ln() / (2.0 * PI);
         for (p, shape) in shapes.iter().enumerate() {
             for (r, row) in rows.iter().enumerate() {
@@ -325,20 +346,19 @@ impl FiniteDepthGreen {
         }
         RemainderMatrix {
             real,
-            imaginary: self.propagating_rows(rows, panels),
+            imaginary: self.propagating_rows(rows, &shapes),
         }
     }
 
-    /// The four columns of a real node from `column` on.
+    /// The two even and two odd columns of a real node.
     fn real_node(
         &self,
         node: &RealNode,
         rows: &[RemainderRow],
         shapes: &[Shape],
-        column: usize,
-        left: &mut Mat<f64>,
-        right: &mut Mat<f64>,
+        factors: &mut Factors,
     ) {
+        let column = factors.column;
         let (nu, h, m) = (self.nu, self.depth, node.m);
         let decay = (-m * h).exp();
         let q = decay * decay;
@@ -346,8 +366,10 @@ impl FiniteDepthGreen {
         let tau = (nu + m) / (nu - m);
         for (r, row) in rows.iter().enumerate() {
             let [cos, sin, up] = node.trig[node.of_row[r]];
-            let entries = row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
-            left.col_as_slice_mut(r)[column..column + 4].copy_from_slice(&entries);
+            let [a, b, c, d] =
+                row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
+            factors.left[0].col_as_slice_mut(r)[column..column + 2].copy_from_slice(&[a, c]);
+            factors.left[1].col_as_slice_mut(r)[column..column + 2].copy_from_slice(&[b, d]);
         }
         for (p, shape) in shapes.iter().enumerate() {
             let [cos, sin, up] = node.trig[p];
@@ -357,13 +379,15 @@ impl FiniteDepthGreen {
             let (rising, falling) = (phase * sinhc, phase * sinhc.conj());
             let g1 = falling * (q / up) - rising * (tau * q * up);
             let g2 = falling * (q * decay / up) + rising * (decay * up);
-            right.col_as_slice_mut(p)[column..column + 4]
-                .copy_from_slice(&[g1.re, g1.im, g2.re, g2.im]);
+            factors.right[0].col_as_slice_mut(p)[column..column + 2]
+                .copy_from_slice(&[g1.re, g2.re]);
+            factors.right[1].col_as_slice_mut(p)[column..column + 2]
+                .copy_from_slice(&[g1.im, g2.im]);
         }
     }
 
-    /// The eight columns of a complex node `m` (weight `weight`, on a half circle over the
-    /// poles) from `column` on: the real and imaginary parts of the factors, `Re(a b) =
+    /// The four even and four odd columns of a complex node `m` (weight `weight`, on a half
+    /// circle over the poles): the real and imaginary parts of the factors, `Re(a b) =
     /// Re a Re b - Im a Im b`.
     #[allow(clippy::too_many_arguments)]
     fn complex_node(
@@ -372,10 +396,9 @@ impl FiniteDepthGreen {
         weight: Complex64,
         rows: &[RemainderRow],
         shapes: &[Shape],
-        column: usize,
-        left: &mut Mat<f64>,
-        right: &mut Mat<f64>,
+        factors: &mut Factors,
     ) {
+        let column = factors.column;
         let (nu, h) = (self.nu, self.depth);
         let i = Complex64::new(0.0, 1.0);
         let decay = (-h * m).exp();
@@ -390,12 +413,12 @@ impl FiniteDepthGreen {
                 (phase - phase.inv()) / (2.0 * i),
             );
             let up = (m * y).exp();
-            let entries = row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
-            let target = &mut left.col_as_slice_mut(r)[column..column + 8];
-            for (t, v) in entries.iter().enumerate() {
-                target[t] = v.re;
-                target[t + 4] = -v.im;
-            }
+            let [a, b, c, d] =
+                row_entries(row.direction, field_factors(m, up, decay / up, cos, sin));
+            factors.left[0].col_as_slice_mut(r)[column..column + 4]
+                .copy_from_slice(&[a.re, c.re, -a.im, -c.im]);
+            factors.left[1].col_as_slice_mut(r)[column..column + 4]
+                .copy_from_slice(&[b.re, d.re, -b.im, -d.im]);
         }
         for (p, shape) in shapes.iter().enumerate() {
             let [xc, yc] = shape.centre;
@@ -416,26 +439,27 @@ impl FiniteDepthGreen {
             };
             let [cos_up, sin_up] = trig(plus_up, minus_up);
             let [cos_down, sin_down] = trig(plus_down, minus_down);
-            let source = [
+            let (g1_cos, g2_cos) = (
                 q * (cos_down - tau * cos_up),
-                q * (sin_down - tau * sin_up),
                 q * decay * cos_down + decay * cos_up,
+            );
+            let (g1_sin, g2_sin) = (
+                q * (sin_down - tau * sin_up),
                 q * decay * sin_down + decay * sin_up,
-            ];
-            let target = &mut right.col_as_slice_mut(p)[column..column + 8];
-            for (t, s) in source.iter().enumerate() {
-                target[t] = s.re;
-                target[t + 4] = s.im;
-            }
+            );
+            factors.right[0].col_as_slice_mut(p)[column..column + 4]
+                .copy_from_slice(&[g1_cos.re, g2_cos.re, g1_cos.im, g2_cos.im]);
+            factors.right[1].col_as_slice_mut(p)[column..column + 4]
+                .copy_from_slice(&[g1_sin.re, g2_sin.re, g1_sin.im, g2_sin.im]);
         }
     }
 
     /// The imaginary part: the propagating mode `A0 Z0(y) Z0(y0) cos k0 X` less the deep-water
     /// wave `e^{nu Y} cos nu X`, four separable terms.
-    fn propagating_rows(&self, rows: &[RemainderRow], panels: &[[Point; 2]]) -> Mat<f64> {
+    fn propagating_rows(&self, rows: &[RemainderRow], shapes: &[Shape]) -> Mat<f64> {
         let (nu, h, k) = (self.nu, self.depth, self.k0);
         let mut left = Mat::<f64>::zeros(4, rows.len());
-        let mut right = Mat::<f64>::zeros(4, panels.len());
+        let mut right = Mat::<f64>::zeros(4, shapes.len());
         let norm = {
             let q = (-2.0 * k * h).exp();
             4.0 * k * h * q + (1.0 - q * q)
@@ -456,21 +480,26 @@ impl FiniteDepthGreen {
             left.col_as_slice_mut(r)
                 .copy_from_slice(&row_entries(row.direction, factors));
         }
-        for (p, &[a, b]) in panels.iter().enumerate() {
-            let zero = Complex64::new(0.0, 0.0);
-            let kc = Complex64::new(k, 0.0);
-            let nc = Complex64::new(nu, 0.0);
-            let up = trig_exponential(kc, 1.0, zero, a, b);
-            let down = trig_exponential(kc, -1.0, Complex64::new(-2.0 * k * h, 0.0), a, b);
-            let deep = trig_exponential(nc, 1.0, zero, a, b);
+        // int e^{i m x0 +- m y0} ds = L e^{i m xc +- m yc} sinhc(m (i dx +- dy)/2), real m:
+        // cos and sin parts its real and imaginary parts.
+        for (p, shape) in shapes.iter().enumerate() {
+            let [xc, yc] = shape.centre;
+            let (sin, cos) = (k * xc).sin_cos();
+            let (sin_deep, cos_deep) = (nu * xc).sin_cos();
+            let wave = Complex64::new(cos, sin) * shape.length;
+            let sinhc = shape.sinhc(k);
+            let up = wave * sinhc * (k * yc).exp();
+            let down = wave * sinhc.conj() * (-k * (yc + 2.0 * h)).exp();
+            let deep = Complex64::new(cos_deep, sin_deep)
+                * (shape.sinhc(nu) * (shape.length * (nu * yc).exp()));
             right.col_as_slice_mut(p).copy_from_slice(&[
-                (up[0] + down[0]).re / norm,
-                (up[1] + down[1]).re / norm,
-                -deep[0].re,
-                -deep[1].re,
+                (up + down).re / norm,
+                (up + down).im / norm,
+                -deep.re,
+                -deep.im,
             ]);
         }
-        let mut imaginary = Mat::<f64>::zeros(rows.len(), panels.len());
+        let mut imaginary = Mat::<f64>::zeros(rows.len(), shapes.len());
         faer::linalg::matmul::matmul(
             imaginary.as_mut(),
             left.transpose(),
@@ -492,48 +521,78 @@ struct RealNode<'a> {
     of_row: &'a [usize],
 }
 
-/// `real = (first ? 0 : real) + left^T right / pi` over the first `columns` rows of the factors.
-fn accumulate(real: &mut Mat<f64>, left: &Mat<f64>, right: &Mat<f64>, columns: usize, first: bool) {
-    faer::linalg::matmul::matmul(
-        real.as_mut(),
-        left.as_ref().subrows(0, columns).transpose(),
-        right.as_ref().subrows(0, columns),
-        (!first).then_some(1.0),
-        1.0 / PI,
-        faer::Parallelism::None,
-    );
+/// The separable factors of a block of nodes, split by parity in `x0`: `[0]` the terms in
+/// `cos m x0` (even), `[1]` those in `sin m x0` (odd), each `left^T right` summed into
+/// `products` (`rows x kept panels`, times `1/pi`).
+struct Factors {
+    /// Transposed: column `r` holds row `r`'s field factors.
+    left: [Mat<f64>; 2],
+    right: [Mat<f64>; 2],
+    products: [Mat<f64>; 2],
+    /// Columns of the block in use.
+    column: usize,
+}
+
+impl Factors {
+    fn new(rows: usize, panels: usize) -> Self {
+        Self {
+            left: [0, 1].map(|_| Mat::zeros(HALF_BLOCK, rows)),
+            right: [0, 1].map(|_| Mat::zeros(HALF_BLOCK, panels)),
+            products: [0, 1].map(|_| Mat::zeros(rows, panels)),
+            column: 0,
+        }
+    }
+
+    /// Adds the block's products and empties it.
+    fn accumulate(&mut self) {
+        for k in 0..2 {
+            faer::linalg::matmul::matmul(
+                self.products[k].as_mut(),
+                self.left[k].as_ref().subrows(0, self.column).transpose(),
+                self.right[k].as_ref().subrows(0, self.column),
+                Some(1.0),
+                1.0 / PI,
+                faer::Parallelism::None,
+            );
+        }
+        self.column = 0;
+    }
+}
+
+/// For each panel the index of its mirror image in `x = 0` among the later panels, if any
+/// (centres, lengths and slopes within `1e-12` of the mesh's extent); each panel in one pair
+/// at most.
+fn mirror_partners(shapes: &[Shape]) -> Vec<Option<usize>> {
+    let extent = shapes
+        .iter()
+        .map(|s| s.centre[0].abs().max(s.centre[1].abs()) + s.length)
+        .fold(0.0, f64::max);
+    let tolerance = 1e-12 * extent;
+    let mut partner = vec![None; shapes.len()];
+    let mut taken = vec![false; shapes.len()];
+    for (p, a) in shapes.iter().enumerate() {
+        if taken[p] {
+            continue;
+        }
+        let mirrors = |b: &Shape| {
+            let close = |u: f64, v: f64| (u - v).abs() <= tolerance;
+            // The mirror image of a -> b runs from (-a_x, a_y) or, reversed, to it.
+            close(b.centre[0], -a.centre[0])
+                && close(b.centre[1], a.centre[1])
+                && ((close(b.half[0], -a.half[0]) && close(b.half[1], a.half[1]))
+                    || (close(b.half[0], a.half[0]) && close(b.half[1], -a.half[1])))
+        };
+        if let Some(q) = (p + 1..shapes.len()).find(|&q| !taken[q] && mirrors(&shapes[q])) {
+            partner[p] = Some(q);
+            taken[q] = true;
+        }
+    }
+    partner
 }
 
 /// Whether a quadrature node lies on the real axis (four columns) or on a half circle.
 fn is_real(m: Complex64, weight: Complex64) -> bool {
     m.im == 0.0 && weight.im == 0.0
-}
-
-/// `L e^{alpha . c} sinh(s)/s`, `s = alpha . (b - a)/2`: `int e^{alpha . x} ds` over `a -> b`.
-fn exponential_integral(alpha: [Complex64; 2], shift: Complex64, a: Point, b: Point) -> Complex64 {
-    let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-    let half = (alpha[0] * (b[0] - a[0]) + alpha[1] * (b[1] - a[1])) * 0.5;
-    let shape = if half.norm() < 1e-4 {
-        Complex64::new(1.0, 0.0) + half * half / 6.0
-    } else {
-        half.sinh() / half
-    };
-    (alpha[0] * centre[0] + alpha[1] * centre[1] + shift).exp() * (shape * length)
-}
-
-/// `(int cos(m x0) e^{beta m y0 + shift} ds, int sin(...) ds)` over `a -> b`.
-fn trig_exponential(
-    m: Complex64,
-    beta: f64,
-    shift: Complex64,
-    a: Point,
-    b: Point,
-) -> [Complex64; 2] {
-    let i = Complex64::new(0.0, 1.0);
-    let plus = exponential_integral([i * m, beta * m], shift, a, b);
-    let minus = exponential_integral([-i * m, beta * m], shift, a, b);
-    [(plus + minus) * 0.5, (plus - minus) / (2.0 * i)]
 }
 
 /// `sinh(z)/z`.
