@@ -1,6 +1,7 @@
 //! Benchmarks of the hydrodynamic pipeline: one radiation solve, and the full default sweep of
 //! the semicircle (9 DOFs, kR = 0.01 .. 10, 201 points) on 1 and 2 threads, with and without
-//! the exciting forces.
+//! the exciting forces; and the same sweep in deep water and in water of depth `h/R = 2` and
+//! `2000` (docs/FINITE_DEPTH.md, "Speed").
 //!
 //! ```sh
 //! cargo bench --bench sweep
@@ -12,6 +13,7 @@ use hydrofmu::green::FreeSurface;
 use hydrofmu::hull::Hull;
 use hydrofmu::panels::{self, PanelParams};
 use hydrofmu::sweep::{self, SweepParams};
+use hydrofmu::units::WaterDepth;
 use std::hint::black_box;
 
 fn single_solve(c: &mut Criterion) {
@@ -53,5 +55,26 @@ fn full_sweep(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, single_solve, full_sweep);
+fn finite_depth_sweep(c: &mut Criterion) {
+    let hull = Hull::semicircle(1.0).unwrap();
+    let mut group = c.benchmark_group("semicircle default sweep, water depth");
+    group.sample_size(10);
+    // Deep water first: the reference of the ratios.
+    for (name, depth) in [
+        ("deep", WaterDepth::Infinite),
+        ("h/R = 2", WaterDepth::Finite(2.0)),
+        ("h/R = 2000", WaterDepth::Finite(2000.0)),
+    ] {
+        let params = SweepParams {
+            depth,
+            ..SweepParams::default()
+        };
+        group.bench_function(name, |b| {
+            b.iter(|| sweep::run(black_box(&hull), &params, &|_, _| {}).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, single_solve, full_sweep, finite_depth_sweep);
 criterion_main!(benches);

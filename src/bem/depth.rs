@@ -8,7 +8,9 @@
 //! * the bottom image, computed once (the potential as the collocation panel's mean where the
 //!   field point lies within a few panel lengths of the source panel's image in the bottom);
 //! * at a wave frequency, the remainder of every pair from one matrix product
-//!   ([`FiniteDepthGreen::remainder_integrals`]);
+//!   ([`FiniteDepthGreen::remainder_rows`]): for a body panel its potential and normal
+//!   derivative, for a lid panel `d/dy`; on a symmetric mesh only for one collocation point
+//!   of each mirror pair (the other's row is `I(i, p) = I(m(i), m(p))`);
 //! * for the limits, the strips' closed-form remainders ([`limit_remainder_integral`]): the
 //!   `omega -> inf` one computed once, the rigid-lid one when it is solved.
 //!
@@ -17,7 +19,7 @@
 
 use super::{drift, unknown_panel, Influence, NEAR_FIELD_RATIO};
 use crate::green::finite_depth::{
-    bottom_image_integral, limit_remainder_integral, DepthError, FiniteDepthGreen,
+    bottom_image_integral, limit_remainder_integral, DepthError, FiniteDepthGreen, RemainderRow,
 };
 use crate::green::{FreeSurface, Point};
 use crate::panels::{Mesh, Panel};
@@ -32,17 +34,24 @@ pub(super) struct DepthParts {
     bottom: Influence,
     /// The `omega -> inf` strip's remainder, every unknown.
     dirichlet: Influence,
+    /// The unknowns' mirror map on a symmetric mesh.
+    mirror: Option<Vec<usize>>,
 }
 
 /// `f(i, p) -> (value, gradient)` of the unknowns into an [`Influence`]: body rows the normal
-/// derivative and the potential, lid rows `d/dy`.
-fn fill(mesh: &Mesh, mut f: impl FnMut(usize, usize) -> (Complex64, [Complex64; 2])) -> Influence {
+/// derivative and the potential, lid rows `d/dy`. With a `mirror` map the rows of mirrored
+/// collocation points are copies, `I(i, p) = I(m(i), m(p))`.
+fn fill(
+    mesh: &Mesh,
+    mirror: Option<&[usize]>,
+    mut f: impl FnMut(usize, usize) -> (Complex64, [Complex64; 2]),
+) -> Influence {
     let body_count = mesh.body.len();
     let unknowns = body_count + mesh.lid.len();
     let mut system = Mat::<c64>::zeros(unknowns, unknowns);
     let mut potential = Mat::<c64>::zeros(body_count, unknowns);
     let c = |z: Complex64| c64 { re: z.re, im: z.im };
-    for i in 0..unknowns {
+    for i in (0..unknowns).filter(|&i| !is_copy(mirror, i)) {
         let field = unknown_panel(mesh, i);
         for p in 0..unknowns {
             let (value, gradient) = f(i, p);
@@ -55,7 +64,22 @@ fn fill(mesh: &Mesh, mut f: impl FnMut(usize, usize) -> (Complex64, [Complex64; 
             }
         }
     }
+    if let Some(m) = mirror {
+        for i in (0..unknowns).filter(|&i| is_copy(mirror, i)) {
+            for p in 0..unknowns {
+                system.write(i, p, system.read(m[i], m[p]));
+                if i < body_count {
+                    potential.write(i, p, potential.read(m[i], m[p]));
+                }
+            }
+        }
+    }
     Influence { system, potential }
+}
+
+/// Whether row `i` is a copy of its mirror image's.
+fn is_copy(mirror: Option<&[usize]>, i: usize) -> bool {
+    mirror.is_some_and(|m| m[i] < i)
 }
 
 /// Adds the first `unknowns` unknowns of `part` to `target`.
@@ -80,7 +104,8 @@ fn bottom_image(panel: &Panel, h: f64) -> Panel {
 impl DepthParts {
     /// The parts for `mesh` in depth `h` (m; every node above the bottom).
     pub(super) fn new(mesh: &Mesh, h: f64) -> Self {
-        let bottom = fill(mesh, |i, p| {
+        let mirror = super::mirror_map(mesh);
+        let bottom = fill(mesh, mirror.as_deref(), |i, p| {
             let (field, source) = (unknown_panel(mesh, i), unknown_panel(mesh, p));
             let integral = bottom_image_integral(h, field.centre, source.start, source.end);
             let reach = NEAR_FIELD_RATIO * field.length.max(source.length);
@@ -95,10 +120,12 @@ impl DepthParts {
             };
             (value, integral.gradient)
         });
+        let dirichlet = limit(mesh, mirror.as_deref(), FreeSurface::Dirichlet, h);
         Self {
             depth: h,
             bottom,
-            dirichlet: limit(mesh, FreeSurface::Dirichlet, h),
+            dirichlet,
+            mirror,
         }
     }
 
@@ -117,40 +144,74 @@ impl DepthParts {
                 Ok(None)
             }
             FreeSurface::RigidLid => {
-                add(target, &limit(mesh, surface, self.depth));
+                add(
+                    target,
+                    &limit(mesh, self.mirror.as_deref(), surface, self.depth),
+                );
                 Ok(None)
             }
             FreeSurface::Wave { wavenumber } => {
                 let green = FiniteDepthGreen::new(wavenumber, self.depth)?;
-                let unknowns = target.system.ncols();
-                let fields: Vec<Point> = (0..unknowns)
-                    .map(|i| unknown_panel(mesh, i).centre)
-                    .collect();
-                let panels: Vec<[Point; 2]> = (0..unknowns)
-                    .map(|p| {
-                        let panel = unknown_panel(mesh, p);
-                        [panel.start, panel.end]
-                    })
-                    .collect();
-                let integrals = green.remainder_integrals(&fields, &panels);
-                let body_count = mesh.body.len();
-                for i in 0..unknowns {
-                    let field = unknown_panel(mesh, i);
-                    for p in 0..unknowns {
-                        let gradient = integrals.gradient(i, p);
-                        let row = if i < body_count {
-                            let value = integrals.value(i, p) + from(target.potential.read(i, p));
-                            target.potential.write(i, p, to(value));
-                            gradient[0] * field.normal[0] + gradient[1] * field.normal[1]
-                        } else {
-                            gradient[1]
-                        };
-                        target
-                            .system
-                            .write(i, p, to(row + from(target.system.read(i, p))));
-                    }
-                }
+                self.add_wave_remainder(mesh, &green, target);
                 Ok(Some(green.wavenumber()))
+            }
+        }
+    }
+
+    /// Adds the remainder of `green` to the influence of the first `target.system.ncols()`
+    /// unknowns: one [`FiniteDepthGreen::remainder_rows`] product for the rows that are not
+    /// mirror copies.
+    fn add_wave_remainder(&self, mesh: &Mesh, green: &FiniteDepthGreen, target: &mut Influence) {
+        let unknowns = target.system.ncols();
+        let body_count = mesh.body.len();
+        let mirror = self
+            .mirror
+            .as_deref()
+            .filter(|m| m[..unknowns].iter().all(|&q| q < unknowns));
+        // first_row[i]: the value row (body) or d/dy row (lid) of unknown i.
+        let mut first_row = vec![usize::MAX; unknowns];
+        let mut rows = Vec::new();
+        for i in (0..unknowns).filter(|&i| !is_copy(mirror, i)) {
+            let field = unknown_panel(mesh, i);
+            first_row[i] = rows.len();
+            if i < body_count {
+                rows.push(RemainderRow {
+                    point: field.centre,
+                    direction: None,
+                });
+            }
+            let direction = if i < body_count {
+                field.normal
+            } else {
+                [0.0, 1.0]
+            };
+            rows.push(RemainderRow {
+                point: field.centre,
+                direction: Some(direction),
+            });
+        }
+        let panels: Vec<[Point; 2]> = (0..unknowns)
+            .map(|p| {
+                let panel = unknown_panel(mesh, p);
+                [panel.start, panel.end]
+            })
+            .collect();
+        let remainder = green.remainder_rows(&rows, &panels);
+        for i in 0..unknowns {
+            // A copied row reads its mirror image's row at the mirrored panel.
+            let copy_of = mirror.filter(|_| is_copy(mirror, i));
+            let row = first_row[copy_of.map_or(i, |m| m[i])];
+            for p in 0..unknowns {
+                let source = copy_of.map_or(p, |m| m[p]);
+                if i < body_count {
+                    let value = remainder.get(row, source) + from(target.potential.read(i, p));
+                    target.potential.write(i, p, to(value));
+                    let normal = remainder.get(row + 1, source) + from(target.system.read(i, p));
+                    target.system.write(i, p, to(normal));
+                } else {
+                    let d_y = remainder.get(row, source) + from(target.system.read(i, p));
+                    target.system.write(i, p, to(d_y));
+                }
             }
         }
     }
@@ -170,8 +231,8 @@ fn from(z: c64) -> Complex64 {
 }
 
 /// The remainder of a limit's strip Green function, every unknown.
-fn limit(mesh: &Mesh, surface: FreeSurface, h: f64) -> Influence {
-    fill(mesh, |i, p| {
+fn limit(mesh: &Mesh, mirror: Option<&[usize]>, surface: FreeSurface, h: f64) -> Influence {
+    fill(mesh, mirror, |i, p| {
         let (field, source) = (unknown_panel(mesh, i), unknown_panel(mesh, p));
         let (value, gradient) =
             limit_remainder_integral(surface, h, field.centre, source.start, source.end);

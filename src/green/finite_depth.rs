@@ -75,7 +75,9 @@ mod strip;
 #[cfg(test)]
 mod tests;
 
-pub use strip::{limit_remainder, limit_remainder_integral, RemainderIntegrals};
+pub use strip::{
+    limit_remainder, limit_remainder_integral, RemainderIntegrals, RemainderMatrix, RemainderRow,
+};
 
 use super::panel::Panel;
 use super::{FreeSurface, GreenFunction, PanelIntegral, Point};

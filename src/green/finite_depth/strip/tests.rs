@@ -56,6 +56,45 @@ fn separable_remainder_matches_the_pair_by_pair_panel_integrals() {
     }
 }
 
+#[test]
+fn rows_are_values_and_directional_derivatives_with_and_without_mirror_pairs() {
+    let (nu, h) = (0.8, 2.0);
+    let green = FiniteDepthGreen::new(nu, h).unwrap();
+    let deep = GreenFunction::new(FreeSurface::Wave { wavenumber: nu }).unwrap();
+    let (fields, panels) = section(h, 1.0, 12);
+    let direction = [0.6, -0.8];
+    let rows: Vec<RemainderRow> = fields
+        .iter()
+        .flat_map(|&point| {
+            [None, Some(direction)].map(|direction| RemainderRow { point, direction })
+        })
+        .collect();
+    // The whole symmetric section (mirror pairs of panels), and without its first panel.
+    for panels in [&panels[..], &panels[1..]] {
+        let matrix = green.remainder_rows(&rows, panels);
+        let mut worst: f64 = 0.0;
+        for (r, row) in rows.iter().enumerate() {
+            for (p, &[a, b]) in panels.iter().enumerate() {
+                let full = green.panel_integral(row.point, a, b);
+                let d = deep.panel_integral(row.point, a, b);
+                let log = bottom_image_integral(h, row.point, a, b);
+                let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+                let exact = match row.direction {
+                    None => full.potential - d.potential - log.potential,
+                    Some([nx, ny]) => {
+                        let g = [0, 1].map(|c| full.gradient[c] - d.gradient[c] - log.gradient[c]);
+                        (g[0] * nx + g[1] * ny) * h
+                    }
+                };
+                let got = matrix.get(r, p) * if row.direction.is_some() { h } else { 1.0 };
+                let scale = length * (1.0 + (full.potential.norm() / length));
+                worst = worst.max((got - exact).norm() / scale);
+            }
+        }
+        assert!(worst < 2e-10, "{} panels: {worst:e}", panels.len());
+    }
+}
+
 /// `(1/2pi) sum sign ln|z - image|` over the images of the strip, `2 n` periods each way,
 /// less the nearest three: the limit remainder by brute force.
 fn image_sum(surface: FreeSurface, h: f64, field: Point, source: Point, n: i32) -> [f64; 3] {
