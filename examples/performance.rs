@@ -275,6 +275,13 @@ fn main() {
          distinct sections by `examples/ships/wigley_speed.py`; its benchmarks (`cargo bench \
          --bench ship`) are in docs/BENCHMARKS.md."
     );
+    let _ = writeln!(
+        doc,
+        "\n## Finite water depth\n\nThe finite-depth section sweep's speed against the \
+         deep-water one, and its accuracy, are in docs/FINITE_DEPTH.md (\"Speed\"); `cargo \
+         bench --bench sweep -- \"water depth\"` times the default semicircle sweep in deep \
+         water and at `h/R = 2` and 2000."
+    );
     let path = out.write_page("PERFORMANCE", &doc);
     eprintln!(
         "wrote {} in {:.0} s",
