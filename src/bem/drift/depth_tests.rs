@@ -6,8 +6,6 @@
 
 use super::super::*;
 use crate::hull::Hull;
-use crate::panels::PanelParams;
-use crate::sweep::Solver;
 use crate::units::WaterDepth;
 
 /// Wave frequencies `nu R` of the checks, long to short waves.
@@ -16,34 +14,7 @@ const KR: [f64; 6] = [0.02, 0.1, 0.5, 1.0, 2.0, 5.0];
 /// Water depths over the radius of the checks.
 const DEPTHS: [f64; 3] = [1.5, 3.0, 10.0];
 
-/// The extrapolated solution of `hull` at `nu R = kr`, half-beam `radius`, in `depth`.
-fn solve(
-    hull: &Hull,
-    radius: f64,
-    panels: usize,
-    kr: f64,
-    depth: WaterDepth,
-) -> (RadiationSolution, Drift) {
-    let params = PanelParams {
-        body_panels: panels,
-        ..PanelParams::default()
-    };
-    let solver = Solver::with_depth(hull, &params, 3, depth).unwrap();
-    let surface = FreeSurface::Wave {
-        wavenumber: kr / radius,
-    };
-    let solution = solver
-        .solve(surface, IrregularFrequencies::RemoveWithLid)
-        .unwrap();
-    let drift = solution
-        .wave_forces
-        .as_ref()
-        .unwrap()
-        .drift
-        .clone()
-        .unwrap();
-    (solution, drift)
-}
+use super::tests::solve_in as solve;
 
 /// The propagating wavenumber of `nu` in depth `h`.
 fn wavenumber(nu: f64, h: f64) -> f64 {

@@ -15,13 +15,24 @@ fn barge() -> Hull {
     Hull::from_xml_str(text, "barge.xml").unwrap()
 }
 
-/// The extrapolated solution of `hull` (half-beam `radius`) at `kr`.
+/// The extrapolated solution of `hull` (half-beam `radius`) at `kr`, in deep water.
 fn solve(hull: &Hull, radius: f64, panels: usize, kr: f64) -> (RadiationSolution, Drift) {
+    solve_in(hull, radius, panels, kr, crate::units::WaterDepth::Infinite)
+}
+
+/// The extrapolated solution of `hull` at `nu R = kr`, half-beam `radius`, in `depth`.
+pub(super) fn solve_in(
+    hull: &Hull,
+    radius: f64,
+    panels: usize,
+    kr: f64,
+    depth: crate::units::WaterDepth,
+) -> (RadiationSolution, Drift) {
     let params = PanelParams {
         body_panels: panels,
         ..PanelParams::default()
     };
-    let solver = Solver::new(hull, &params, 3).unwrap();
+    let solver = Solver::with_depth(hull, &params, 3, depth).unwrap();
     let surface = FreeSurface::Wave {
         wavenumber: kr / radius,
     };
