@@ -343,7 +343,7 @@ fn a_prismatic_ships_drift_in_finite_depth_is_the_depths_section_drift_times_its
         ..SweepParams::default()
     };
     let section = crate::sweep::run(&hull, &section_params, &|_, _| {}).unwrap();
-    for w in 0..kr.len() {
+    for (w, kr) in kr.iter().enumerate() {
         // Per rho g a^2 and metre; column 0: the wave towards +y (ship heading 90).
         let mean = section.excitation[w].drift.as_ref().unwrap().mean_drift();
         let scale = rho * G * length * mean.column(0).amax();
@@ -353,8 +353,7 @@ fn a_prismatic_ships_drift_in_finite_depth_is_the_depths_section_drift_times_its
                 let ours = result.drift[w][(i, h)];
                 assert!(
                     (ours - share * expected).abs() <= 1e-12 * scale,
-                    "kR {} DOF {i} heading {h}: {ours} vs {}",
-                    kr[w],
+                    "kR {kr} DOF {i} heading {h}: {ours} vs {}",
                     share * expected
                 );
             }
