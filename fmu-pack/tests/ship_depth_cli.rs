@@ -1,7 +1,7 @@
 //! `--water-depth` for ship files and imported databases: the ship file's `depth` and the
-//! flag that overrides it, the tables' and the archive's depth, and clear errors (a bad depth,
-//! a section reaching the bottom, the ship's drift in finite depth, a Capytaine dataset of
-//! another depth).
+//! flag that overrides it, the tables' and the archive's depth (the drift table's too), and
+//! clear errors (a bad depth, a section reaching the bottom, a Capytaine dataset of another
+//! depth).
 
 use std::path::{Path, PathBuf};
 
