@@ -10,11 +10,9 @@ use std::process::Command;
 /// `--binary`: the tests run before the release library is built (`cargo test` on a fresh
 /// checkout), and they read the archive's resources, not its binary.
 pub fn fmu_pack(args: &[&str]) -> (bool, String, String) {
-    let shared = std::env::temp_dir().join(format!("hydrofmu-stand-in-{}", std::process::id()));
-    std::fs::create_dir_all(&shared).unwrap();
     let output = Command::new(env!("CARGO_BIN_EXE_fmu-pack"))
         .args(args)
-        .env("HYDROFMU_BINARY", stand_in_binary(&shared))
+        .env("HYDROFMU_BINARY", shared_stand_in())
         .output()
         .expect("run fmu-pack");
     (
@@ -22,6 +20,20 @@ pub fn fmu_pack(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&output.stdout).into_owned(),
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
+}
+
+/// One stand-in library for every `pack` of this test process, written once and whole (a
+/// rename), so a `pack` running in another test thread never reads it half written.
+fn shared_stand_in() -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hydrofmu-stand-in-{}", std::process::id()));
+    let binary = dir.join("libstand-in.so");
+    if !binary.is_file() {
+        let scratch =
+            dir.join(format!("{:?}", std::thread::current().id()).replace(['(', ')'], ""));
+        std::fs::create_dir_all(&scratch).unwrap();
+        std::fs::rename(stand_in_binary(&scratch), &binary).unwrap();
+    }
+    binary
 }
 
 /// The text of the member `name` of the archive at `archive`; `None` when it has none.
