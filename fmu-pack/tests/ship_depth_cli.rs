@@ -3,10 +3,10 @@
 //! clear errors (a bad depth, a section reaching the bottom, a Capytaine dataset of another
 //! depth).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod common;
-use common::fmu_pack;
+use common::{fmu_pack, wamit_sphere as sphere};
 
 /// A prismatic ship of semicircles (R = 1 m, keel 1 m below the surface) from x = -5 to 5 m,
 /// with the root attributes `attributes`, written into `dir`.
@@ -136,13 +136,6 @@ fn a_ship_packed_in_finite_depth_declares_it() {
         "{inspected}"
     );
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-fn sphere() -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/wamit/sphere.1")
-        .display()
-        .to_string()
 }
 
 /// WAMIT files do not state their depth: `--water-depth` gives it. A Capytaine dataset

@@ -4,14 +4,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::fmu_pack;
-
-fn sphere() -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/wamit/sphere.1")
-        .display()
-        .to_string()
-}
+use common::{fmu_pack, wamit_sphere as sphere};
 
 fn barge() -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

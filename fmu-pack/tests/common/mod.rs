@@ -60,3 +60,12 @@ pub fn stand_in_binary(dir: &Path) -> std::path::PathBuf {
     std::fs::write(&binary, b"\x7fELF stand-in").unwrap();
     binary
 }
+
+/// The checked-in WAMIT v7.2 hemisphere's `.1` file (tests/data/wamit/).
+#[allow(dead_code)] // Not every test file imports it.
+pub fn wamit_sphere() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/wamit/sphere.1")
+        .display()
+        .to_string()
+}
