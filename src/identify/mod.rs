@@ -167,7 +167,10 @@ pub mod vector_fitting;
 
 pub use error::IdentifyError;
 pub(crate) use params::DEFAULT_TOLERANCE;
-pub use params::{CoupledMethod, FitParams, FitReport};
+pub use params::{
+    pole_range_below, CoupledMethod, FitParams, FitReport, STRIP_FINITE_DEPTH_POLE_RANGE,
+};
+pub use rational::POLE_RANGE;
 
 pub use problem::{dof_scales, fastest_rate, FASTEST_RATE_OVER_BAND};
 pub use response::{FrequencyResponse, FREQUENCY_RANGE, MAX_FREQUENCY_RATIO, VALUE_RANGE};

@@ -2,7 +2,9 @@
 
 use nalgebra::DMatrix;
 
+use super::rational::POLE_RANGE;
 use crate::network::{Network, NetworkForm};
+use crate::units::WaterDepth;
 
 /// Settings of [`fit`](super::fit).
 #[derive(Clone, Debug, PartialEq)]
@@ -47,7 +49,34 @@ pub struct FitParams {
     /// ([`FitReport::tolerance`], `tolerance_met`) and says so in [`FitReport::notes`]: no
     /// network can be told apart from the data more finely.
     pub noise: Option<DMatrix<f64>>,
+    /// How far below the band's bottom (a factor) a pole of the rational fit may lie; default
+    /// [`POLE_RANGE`] (30), above the band's top always [`POLE_RANGE`]. Two-dimensional data
+    /// in finite depth take [`STRIP_FINITE_DEPTH_POLE_RANGE`] ([`pole_range_below`]): their
+    /// damping tends to a constant as `omega -> 0`, a dashpot that only a slow pole can carry.
+    pub pole_range_below: f64,
 }
+
+/// The range below the band for [`FitParams::pole_range_below`]: [`POLE_RANGE`], or
+/// [`STRIP_FINITE_DEPTH_POLE_RANGE`] for two-dimensional data (`strips`: a section or a
+/// ship's strips) in finite depth.
+///
+/// A 2D section in depth `h` radiates long waves at the speed `sqrt(g h)`: its heave damping
+/// tends to `b(0) = rho g |x(0)|^2 / (2 sqrt(g h))` (both sides; `x = X / (rho g a)`, the
+/// hydrostatic limit), not to zero as in deep water or around a 3D body, and `A~` grows like
+/// `1 / omega` through `b / omega`. A network carries that constant damping in the band by a
+/// pole far below it (`R / (i omega - p) ~ -i R / omega` for `|p| << omega`: damping `R`);
+/// vector fitting places it 200 to 1e5 times below the band.
+pub fn pole_range_below(depth: WaterDepth, strips: bool) -> f64 {
+    if strips && !depth.is_infinite() {
+        STRIP_FINITE_DEPTH_POLE_RANGE
+    } else {
+        POLE_RANGE
+    }
+}
+
+/// [`FitParams::pole_range_below`] for 2D data in finite depth: `1e6` (the slowest pole
+/// measured, 8.4e-6 rad/s below a band from 0.71 rad/s, is 8.4e4 below it).
+pub const STRIP_FINITE_DEPTH_POLE_RANGE: f64 = 1e6;
 
 /// How the coupled form is fitted (module docs of [`crate::identify`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -75,6 +104,7 @@ impl Default for FitParams {
             coupled_stages: None,
             coupled_method: CoupledMethod::Rational,
             noise: None,
+            pole_range_below: POLE_RANGE,
         }
     }
 }

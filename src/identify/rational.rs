@@ -24,7 +24,9 @@
 //! Physical bounds: a candidate whose poles are not all within [`POLE_RANGE`] of the band
 //! (below its bottom over `POLE_RANGE`, above its top times it) is refused: such a pole is a
 //! spurious slow mode (a mass that acts as a spring to the ground for minutes) or a stiff one
-//! that carries no information.
+//! that carries no information. Below the band the factor is
+//! [`FitParams::pole_range_below`]: 2D data in finite depth need slow poles for their damping
+//! at zero frequency ([`super::params::pole_range_below`]).
 
 use super::problem::Problem;
 use super::synthesis::synthesize;
@@ -69,8 +71,9 @@ fn network_of(problem: &Problem, fit: &RationalFit) -> Result<(f64, Network), St
     Ok((problem.max_relative_error(&network), network))
 }
 
-/// Why a block's fit cannot be used: not passive, or a pole outside [`POLE_RANGE`] of the band.
-fn refusal(fit: &BlockFit, omega_ref: f64, band: (f64, f64)) -> Option<String> {
+/// Why a block's fit cannot be used: not passive, or a pole outside the band by more than
+/// `range_below` below it or [`POLE_RANGE`] above it.
+fn refusal(fit: &BlockFit, omega_ref: f64, band: (f64, f64), range_below: f64) -> Option<String> {
     let e = &fit.enforcement;
     if !e.passive {
         return Some(format!(
@@ -82,11 +85,12 @@ fn refusal(fit: &BlockFit, omega_ref: f64, band: (f64, f64)) -> Option<String> {
     fit.poles
         .iter()
         .map(|p| p.norm() * omega_ref)
-        .find(|&m| m < lo / POLE_RANGE || m > hi * POLE_RANGE)
+        .find(|&m| m < lo / range_below || m > hi * POLE_RANGE)
         .map(|m| {
+            let factor = if m < lo { range_below } else { POLE_RANGE };
             format!(
                 "a pole at {m:.3e} rad/s lies outside the band ({lo:.3e}, {hi:.3e}) rad/s by more \
-                 than a factor {POLE_RANGE}"
+                 than a factor {factor}"
             )
         })
 }
@@ -244,7 +248,9 @@ pub(super) fn fit_rational(
                     {
                         // The poles can meet the tolerance; the constraints cost the rest.
                         let refined = blocks.refine(b, &fit, &vf, REFINEMENT_EVALUATIONS);
-                        if refusal(&refined, blocks.omega_ref(), band).is_none() {
+                        if refusal(&refined, blocks.omega_ref(), band, params.pole_range_below)
+                            .is_none()
+                        {
                             if refined.error < fit.error {
                                 refinements.push(format!(
                                     "block {} order {k} ({pairs} pairs, {real} real) {:.3} % -> \
@@ -257,7 +263,9 @@ pub(super) fn fit_rational(
                             fit = refined;
                         }
                     }
-                    if let Some(why) = refusal(&fit, blocks.omega_ref(), band) {
+                    if let Some(why) =
+                        refusal(&fit, blocks.omega_ref(), band, params.pole_range_below)
+                    {
                         failures.push(format!(
                             "block {} ({} DOF directions), order {k} ({pairs} pairs, {real} \
                              real): {why}",

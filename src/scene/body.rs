@@ -113,6 +113,11 @@ impl BodyScene {
             order: self.order,
             form: self.form,
             noise: Some(database.noise.clone()),
+            // Sections and ships list their panels; imports (3D) none.
+            pole_range_below: identify::pole_range_below(
+                database.depth,
+                !database.body_panels.is_empty(),
+            ),
             ..FitParams::default()
         };
         let response = database.response();

@@ -375,6 +375,7 @@ impl BuiltScene {
             tolerance: self.scene.tolerance,
             order: self.scene.order,
             form: self.scene.form,
+            pole_range_below: identify::pole_range_below(self.scene.sweep.depth, true),
             ..FitParams::default()
         };
         Ok(identify::fit(&response.fitted, &params)?)

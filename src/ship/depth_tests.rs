@@ -373,3 +373,70 @@ fn bad_depths_are_refused_by_name() {
         assert!(e.contains("finite and > 0"), "{bad}: {e}");
     }
 }
+
+/// The default fit of a ship in shallow water. A 2D section in depth `h` radiates long waves
+/// at `sqrt(g h)`: its heave damping tends to `2 rho g R^2 / sqrt(g h)` as `omega -> 0`
+/// (energy identity with the hydrostatic force `x = 2R` on both sides), a dashpot that the
+/// rational fit carries by a pole far below the band, which the deep-water bound
+/// ([`POLE_RANGE`], 30) refuses. A prismatic ship (L = 10 m, semicircles R = 1 m) in heave and
+/// pitch at `h/R = 3`, default band and tolerance (1 %): measured 0.63 % with 6 states; the
+/// same data with the deep-water bound 6.7 %. A tenth of the band's bottom frequency below it,
+/// the network's heave damping is the strips' `L 2 rho g R^2 / sqrt(g h)` within 0.31 %: the
+/// slow pole is that dashpot, not a spurious mode.
+#[test]
+fn a_ship_in_shallow_water_fits_with_a_slow_pole_that_is_its_damping_at_zero_frequency() {
+    use crate::identify::{self, FitParams, POLE_RANGE};
+    use crate::scene::{Band, BodyScene};
+    let (h, length, rho) = (3.0, 10.0, 1025.0);
+    let ship = Ship::from_xml_str(
+        "<ship name=\"prism\">\n<station x=\"-5\"><semicircle radius=\"1\"/></station>\n\
+         <station x=\"5\"><semicircle radius=\"1\"/></station>\n<rigid dofs=\"heave pitch\"/>\n\
+         </ship>\n",
+        "prism.xml",
+        Path::new("."),
+    )
+    .unwrap();
+    let defaults = ShipSweepParams::for_ship(&ship);
+    let params = params(&ship, &defaults.omega, &[180.0], WaterDepth::Finite(h));
+    let database = run(&ship, &params, &|_, _| {}).unwrap();
+    let fitted = BodyScene {
+        band: Band::default(),
+        band_length: 1.0,
+        ..BodyScene::new(database)
+    }
+    .fit()
+    .unwrap();
+    let fit = &fitted.fit;
+    assert!(
+        fit.tolerance_met && fit.states <= 8,
+        "{} % with {} states: {:?}",
+        100.0 * fit.max_relative_error,
+        fit.states,
+        fit.notes
+    );
+    // The same data and band with the deep-water bound below the band.
+    let (lo, hi) = fit.band;
+    let deep_bound = identify::fit(
+        &fitted.database.response(),
+        &FitParams {
+            band: (lo, hi),
+            pole_range_below: POLE_RANGE,
+            ..FitParams::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        deep_bound.max_relative_error > 0.05,
+        "{}",
+        deep_bound.max_relative_error
+    );
+    // Below the band the network is the channel's dashpot (the pole itself lies lower still:
+    // at lo / 100 the damping has fallen to 0.80 of it, at lo / 1000 to 0.04).
+    let dashpot = length * 2.0 * rho * G / (G * h).sqrt();
+    let omega = lo / 10.0;
+    let damping = -omega * fit.network.added_mass_tf(omega)[(0, 0)].im;
+    assert!(
+        (damping / dashpot - 1.0).abs() < 0.01,
+        "{damping} against {dashpot}"
+    );
+}
