@@ -8,14 +8,18 @@
 //!
 //! Cases: `midship`, `barge`, `pontoon` (examples/hulls, the scene defaults: all DOFs,
 //! kR 0.05 .. 5), `semicircle`, `circle15` (the circle at H/R 1.5), `sphere7`
-//! (tests/data/wamit/sphere.1); any other argument is a database file, fitted over all its
-//! frequencies with its reciprocity gap as the noise floor. Without arguments: the built-in
-//! cases. Set `ENTRIES=1` to print every entry's error and noise.
+//! (tests/data/wamit/sphere.1); a section case followed by `@H` is swept in water of depth
+//! H metres (`midship@30`, `semicircle@2`) and fitted as the scene fits it (slow poles allowed
+//! below the band, docs/FINITE_DEPTH.md "The fit in finite depth"); any other argument is a
+//! database file, fitted over all its frequencies with its reciprocity gap as the noise floor.
+//! Without arguments: the built-in cases. Set `ENTRIES=1` to print every entry's error and
+//! noise.
 
 use hydrofmu::database::import::{import, ImportParams};
 use hydrofmu::hull::Hull;
 use hydrofmu::identify::{self, FitParams, FrequencyResponse};
 use hydrofmu::scene::Scene;
+use hydrofmu::units::WaterDepth;
 use std::path::Path;
 use std::time::Instant;
 
@@ -24,10 +28,13 @@ struct Case {
     data: FrequencyResponse,
     band: (f64, f64),
     noise: Option<nalgebra::DMatrix<f64>>,
+    pole_range_below: f64,
 }
 
-fn section(name: &str, hull: Hull) -> Case {
-    let built = Scene::new(hull).build().expect("scene");
+fn section(name: &str, hull: Hull, depth: WaterDepth) -> Case {
+    let mut scene = Scene::new(hull);
+    scene.sweep.depth = depth;
+    let built = scene.build().expect("scene");
     let sweep = built.sweep(&|_, _| {}).expect("sweep");
     let response = built.response(&sweep).expect("response");
     Case {
@@ -35,6 +42,7 @@ fn section(name: &str, hull: Hull) -> Case {
         data: response.fitted,
         band: built.band(),
         noise: None,
+        pole_range_below: identify::pole_range_below(depth, true),
     }
 }
 
@@ -45,6 +53,7 @@ fn database(name: &str, path: &Path) -> Result<Case, String> {
         data: db.response(),
         band: (0.0, f64::INFINITY),
         noise: Some(db.noise.clone()),
+        pole_range_below: identify::POLE_RANGE,
     })
 }
 
@@ -53,10 +62,27 @@ fn case(name: &str) -> Result<Case, String> {
     let hull = |file: &str| {
         Hull::from_file(&root.join("examples/hulls").join(file)).map_err(|e| e.to_string())
     };
-    Ok(match name {
-        "midship" | "barge" | "pontoon" => section(name, hull(&format!("{name}.xml"))?),
-        "semicircle" => section(name, Hull::semicircle(1.0).map_err(|e| e.to_string())?),
-        "circle15" => section(name, Hull::circle(1.0, 1.5).map_err(|e| e.to_string())?),
+    let (base, depth) = match name.split_once('@') {
+        Some((base, metres)) => {
+            let metres: f64 = metres
+                .parse()
+                .map_err(|_| format!("{name}: the water depth after @ is not a number"))?;
+            (base, WaterDepth::new(metres).map_err(|e| e.to_string())?)
+        }
+        None => (name, WaterDepth::Infinite),
+    };
+    Ok(match base {
+        "midship" | "barge" | "pontoon" => section(name, hull(&format!("{base}.xml"))?, depth),
+        "semicircle" => section(
+            name,
+            Hull::semicircle(1.0).map_err(|e| e.to_string())?,
+            depth,
+        ),
+        "circle15" => section(
+            name,
+            Hull::circle(1.0, 1.5).map_err(|e| e.to_string())?,
+            depth,
+        ),
         "sphere7" => database(name, &root.join("tests/data/wamit/sphere.1"))?,
         file => database(file, Path::new(file))?,
     })
@@ -91,6 +117,7 @@ fn main() {
         let params = FitParams {
             band: case.band,
             noise: case.noise.clone(),
+            pole_range_below: case.pole_range_below,
             ..FitParams::default()
         };
         let start = Instant::now();

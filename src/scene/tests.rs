@@ -282,3 +282,30 @@ fn a_section_in_finite_depth_meets_the_default_tolerance() {
         deep_bound.max_relative_error
     );
 }
+
+/// The control of [`a_section_in_finite_depth_meets_the_default_tolerance`]: a submerged
+/// circle's hydrostatic force `integral n_j ds` vanishes, so its damping vanishes at zero
+/// frequency in any depth and no slow pole is needed: its fit in finite depth is the same with
+/// the deep-water bound below the band (measured with the defaults: 7 states, 0.72 %, both).
+#[test]
+fn a_submerged_section_in_finite_depth_fits_the_same_with_either_bound() {
+    let mut scene = Scene::new(Hull::circle(1.0, 1.5).unwrap());
+    scene.sweep.kr = log_grid(0.05, 5.0, 61).unwrap();
+    scene.sweep.panels.body_panels = 32;
+    scene.sweep.extrapolation_levels = 2;
+    scene.sweep.depth = crate::units::WaterDepth::Finite(3.0);
+    let built = scene.build().unwrap();
+    let response = built.response(&built.sweep(&|_, _| {}).unwrap()).unwrap();
+    let fit = built.fit(&response).unwrap();
+    assert!(fit.tolerance_met, "{}", fit.max_relative_error);
+    let deep_bound = identify::fit(
+        &response.fitted,
+        &FitParams {
+            band: fit.band,
+            ..FitParams::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(deep_bound.states, fit.states);
+    assert_eq!(deep_bound.max_relative_error, fit.max_relative_error);
+}
