@@ -1,6 +1,6 @@
 """A section in finite water depth against a 3D panel method in finite depth (Capytaine 3.0).
 
-examples/validation/capytaine_cylinder_depth.py runs both codes: `fmu-pack sweep semicircle
+examples/finite_depth/capytaine_cylinder.py runs both codes: `fmu-pack sweep semicircle
 --water-depth H` per metre against a long half-immersed cylinder (R = 1 m, L = 40 m, L/D = 20,
 1088 panels) whose whole-body heave and sway added mass and damping are divided by L, both in
 units of rho pi R^2 (the damping as b / (rho pi R^2 omega), the table's -Im A~), at h/R = inf,
@@ -45,7 +45,7 @@ OUR_ENERGY_LIMIT = 1e-4
 
 
 def load_script():
-    path = ROOT / "examples" / "validation" / "capytaine_cylinder_depth.py"
+    path = ROOT / "examples" / "finite_depth" / "capytaine_cylinder.py"
     spec = importlib.util.spec_from_file_location("capytaine_cylinder_depth", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

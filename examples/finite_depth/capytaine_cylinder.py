@@ -19,11 +19,11 @@ the same kR. Ours: the 2D identity with headings 0 and 180 (docs/FINITE_DEPTH.md
 Run from the repository root with the .venv of tests/python/requirements.txt and the release
 fmu-pack built (about 1 min on 2 cores; the finer meshes take a few minutes):
 
-    .venv/bin/python examples/validation/capytaine_cylinder_depth.py
-    .venv/bin/python examples/validation/capytaine_cylinder_depth.py --depths 2 --kr 1.3:1.7:9
-    .venv/bin/python examples/validation/capytaine_cylinder_depth.py --kernel python
-    .venv/bin/python examples/validation/capytaine_cylinder_depth.py --rings 6 --around 48 --slices 90
-    .venv/bin/python examples/validation/capytaine_cylinder_depth.py --length 80 --slices 120
+    .venv/bin/python examples/finite_depth/capytaine_cylinder.py
+    .venv/bin/python examples/finite_depth/capytaine_cylinder.py --depths 2 --kr 1.3:1.7:9
+    .venv/bin/python examples/finite_depth/capytaine_cylinder.py --kernel python
+    .venv/bin/python examples/finite_depth/capytaine_cylinder.py --rings 6 --around 48 --slices 90
+    .venv/bin/python examples/finite_depth/capytaine_cylinder.py --length 80 --slices 120
 
 --kernel legacy: Delhommeau's legacy finite-depth method with the Fortran fit; fingreen:
 FinGreen3D (HAMS). docs/FINITE_DEPTH.md, "Against Capytaine 3.0", has the measured numbers.
