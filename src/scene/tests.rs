@@ -246,28 +246,18 @@ fn a_dof_selection_of_the_whole_hull_keeps_no_full_response() {
     assert!(std::error::Error::source(&e).is_some());
 }
 
-/// A section in finite depth: the scene's fit allows the slow poles of 2D data in finite
-/// depth ([`identify::pole_range_below`]), which carry its damping at zero frequency. The
-/// semicircle's 9 DOFs at `h/R = 2` on a small discretization (32 panels, 2 levels, 61
-/// frequencies), default band and tolerance: measured 0.83 % with 18 states; with the
-/// deep-water bound 7.4 %.
-#[test]
-fn a_section_in_finite_depth_meets_the_default_tolerance() {
-    let mut scene = Scene::new(Hull::semicircle(1.0).unwrap());
+/// The scene's default fit of `hull` in `depth` metres of water on a small discretization (32
+/// panels, 2 levels, 61 frequencies kR 0.05 .. 5), and the fit of the same data and band with
+/// the deep-water bound on poles below the band.
+fn finite_depth_fits(hull: Hull, depth: f64) -> (FitReport, FitReport) {
+    let mut scene = Scene::new(hull);
     scene.sweep.kr = log_grid(0.05, 5.0, 61).unwrap();
     scene.sweep.panels.body_panels = 32;
     scene.sweep.extrapolation_levels = 2;
-    scene.sweep.depth = crate::units::WaterDepth::Finite(2.0);
+    scene.sweep.depth = crate::units::WaterDepth::Finite(depth);
     let built = scene.build().unwrap();
     let response = built.response(&built.sweep(&|_, _| {}).unwrap()).unwrap();
     let fit = built.fit(&response).unwrap();
-    assert!(
-        fit.tolerance_met && fit.states <= 20,
-        "{} with {} states: {:?}",
-        fit.max_relative_error,
-        fit.states,
-        fit.notes
-    );
     let deep_bound = identify::fit(
         &response.fitted,
         &FitParams {
@@ -276,6 +266,23 @@ fn a_section_in_finite_depth_meets_the_default_tolerance() {
         },
     )
     .unwrap();
+    (fit, deep_bound)
+}
+
+/// A section in finite depth: the scene's fit allows the slow poles of 2D data in finite
+/// depth ([`identify::pole_range_below`]), which carry its damping at zero frequency. The
+/// semicircle's 9 DOFs at `h/R = 2`, default band and tolerance: measured 0.83 % with 18
+/// states; with the deep-water bound 7.4 %.
+#[test]
+fn a_section_in_finite_depth_meets_the_default_tolerance() {
+    let (fit, deep_bound) = finite_depth_fits(Hull::semicircle(1.0).unwrap(), 2.0);
+    assert!(
+        fit.tolerance_met && fit.states <= 20,
+        "{} with {} states: {:?}",
+        fit.max_relative_error,
+        fit.states,
+        fit.notes
+    );
     assert!(
         deep_bound.max_relative_error > 0.05,
         "{}",
@@ -289,23 +296,8 @@ fn a_section_in_finite_depth_meets_the_default_tolerance() {
 /// the deep-water bound below the band (measured with the defaults: 7 states, 0.72 %, both).
 #[test]
 fn a_submerged_section_in_finite_depth_fits_the_same_with_either_bound() {
-    let mut scene = Scene::new(Hull::circle(1.0, 1.5).unwrap());
-    scene.sweep.kr = log_grid(0.05, 5.0, 61).unwrap();
-    scene.sweep.panels.body_panels = 32;
-    scene.sweep.extrapolation_levels = 2;
-    scene.sweep.depth = crate::units::WaterDepth::Finite(3.0);
-    let built = scene.build().unwrap();
-    let response = built.response(&built.sweep(&|_, _| {}).unwrap()).unwrap();
-    let fit = built.fit(&response).unwrap();
+    let (fit, deep_bound) = finite_depth_fits(Hull::circle(1.0, 1.5).unwrap(), 3.0);
     assert!(fit.tolerance_met, "{}", fit.max_relative_error);
-    let deep_bound = identify::fit(
-        &response.fitted,
-        &FitParams {
-            band: fit.band,
-            ..FitParams::default()
-        },
-    )
-    .unwrap();
     assert_eq!(deep_bound.states, fit.states);
     assert_eq!(deep_bound.max_relative_error, fit.max_relative_error);
 }

@@ -3,6 +3,7 @@
 `bash tests/run.sh` builds the release binaries first; if they are missing the fixture builds
 them (cargo build --release). Archives go to a session temporary directory.
 """
+import importlib.util
 import os
 import pathlib
 import subprocess
@@ -15,6 +16,16 @@ TARGET = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
 if not TARGET.is_absolute():
     TARGET = ROOT / TARGET
 NETWORKS = ROOT / "examples" / "networks"
+
+
+def load_script(relative_path):
+    """A Python file of the repository (e.g. "examples/ships/compare_capytaine.py") as a
+    module, for tests that run an example's functions."""
+    path = ROOT / relative_path
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 # name -> (network file, extra pack arguments)
 FMUS = {

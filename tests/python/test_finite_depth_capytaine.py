@@ -22,14 +22,13 @@ added mass at kR = 0.3). Subtracting each code's own deep-water value removes it
 effects (value at depth h minus deep water, up to 0.155 at h/R = 2) agree within 0.0082
 (measured, heave damping at h/R = 2, kR = 0.513). Capytaine: about 40 s of CPU.
 """
-import importlib.util
 import math
 import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+import conftest
 
 DEPTHS = (math.inf, 10.0, 4.0, 2.0)  # h/R with R = 1 m
 # Deep water, strip against 3D per metre: measured at most 0.032 (heave added mass, kR = 0.3;
@@ -45,11 +44,7 @@ OUR_ENERGY_LIMIT = 1e-4
 
 
 def load_script():
-    path = ROOT / "examples" / "finite_depth" / "capytaine_cylinder.py"
-    spec = importlib.util.spec_from_file_location("capytaine_cylinder_depth", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return conftest.load_script("examples/finite_depth/capytaine_cylinder.py")
 
 
 @pytest.fixture(scope="module")

@@ -8,14 +8,12 @@ checks that the stepped network, slow pole included, gives the steady force
 F = Re(-i w (A~(w) - A_inf) V e^{i w t}) of the same ship's sweep, inside the band and below it.
 """
 import csv
-import importlib.util
 import io
-import math
 import subprocess
 
 import pytest
 
-from conftest import ROOT
+import conftest
 
 DEPTH = 3.0
 SHIP = """<ship name="prism">
@@ -31,11 +29,7 @@ TOLERANCE = 0.01  # the default fit tolerance: 1 % of the largest |A~| in the ba
 
 def harmonic():
     """tests/python/test_harmonic.py, for its steady_force_phasor."""
-    path = ROOT / "tests" / "python" / "test_harmonic.py"
-    spec = importlib.util.spec_from_file_location("harmonic", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return conftest.load_script("tests/python/test_harmonic.py")
 
 
 @pytest.fixture(scope="module")

@@ -11,23 +11,18 @@ does not: the low frequencies (kL below about 3, where the 3D flow is not 2D) an
 (a box has blunt ones, whose 3D relief lowers the added mass of the end regions and couples
 heave with the bending mode).
 """
-import importlib.util
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+import conftest
 
 OMEGA = (0.25, 1.5, 8)
 HEAVE, PITCH, VB1, PITCH_W = 0, 1, 2, 3
 
 
 def load_script():
-    path = ROOT / "examples" / "ships" / "compare_capytaine.py"
-    spec = importlib.util.spec_from_file_location("compare_capytaine", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return conftest.load_script("examples/ships/compare_capytaine.py")
 
 
 @pytest.fixture(scope="module")

@@ -12,12 +12,11 @@ the coarse mesh, whose differences from the figure's fine mesh are stated there.
 kL below uses the depth's wavenumber: the wave a ship in shallow water meets is shorter than
 the deep-water wave of the same frequency (at 0.25 rad/s and h = 10 m, kL = 2.6 instead of 0.64).
 """
-import importlib.util
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+import conftest
 
 OMEGA = (0.25, 1.5, 8)
 DEPTH = 10.0
@@ -25,11 +24,7 @@ HEAVE, PITCH, VB1 = 0, 1, 2
 
 
 def load_script():
-    path = ROOT / "examples" / "ships" / "compare_capytaine.py"
-    spec = importlib.util.spec_from_file_location("compare_capytaine", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return conftest.load_script("examples/ships/compare_capytaine.py")
 
 
 @pytest.fixture(scope="module")
