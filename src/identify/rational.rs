@@ -358,6 +358,21 @@ pub(super) fn fit_rational(
             chosen.join("; ")
         ));
     }
+    // A pole below the deep-water bound is there only because `pole_range_below` allowed it.
+    let slowest = searches
+        .iter()
+        .filter_map(|s| s.best.as_ref())
+        .flat_map(|(_, f)| f.poles.iter().map(|p| p.norm() * blocks.omega_ref()))
+        .fold(f64::INFINITY, f64::min);
+    if slowest < band.0 / POLE_RANGE {
+        notes.push(format!(
+            "rational fit: a pole at {slowest:.3e} rad/s, {:.0} times below the band: the \
+             damping 2D data keep at zero frequency in finite depth, a dashpot (such poles are \
+             allowed down to {:.0e} times below the band)",
+            band.0 / slowest,
+            params.pole_range_below
+        ));
+    }
     if error > tolerance {
         notes.push(format!(
             "rational fit: no order up to {last} met the tolerance; the network kept has the \

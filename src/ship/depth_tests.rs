@@ -414,6 +414,13 @@ fn a_ship_in_shallow_water_fits_with_a_slow_pole_that_is_its_damping_at_zero_fre
         fit.states,
         fit.notes
     );
+    assert!(
+        fit.notes
+            .iter()
+            .any(|n| n.contains("times below the band: the damping 2D data keep")),
+        "{:?}",
+        fit.notes
+    );
     // The same data and band with the deep-water bound below the band.
     let (lo, hi) = fit.band;
     let deep_bound = identify::fit(
