@@ -397,6 +397,13 @@ fn fit_form(
             "max_order must be >= 1".into(),
         ));
     }
+    // Infinite: no bound below the band.
+    if params.pole_range_below.is_nan() || params.pole_range_below < 1.0 {
+        return Err(IdentifyError::InvalidParams(format!(
+            "pole_range_below must be >= 1, got {}",
+            params.pole_range_below
+        )));
+    }
     if let Some(order) = params.order {
         if order == 0 || order > params.max_order {
             return Err(IdentifyError::InvalidParams(format!(

@@ -49,8 +49,9 @@ pub struct FitParams {
     /// ([`FitReport::tolerance`], `tolerance_met`) and says so in [`FitReport::notes`]: no
     /// network can be told apart from the data more finely.
     pub noise: Option<DMatrix<f64>>,
-    /// How far below the band's bottom (a factor) a pole of the rational fit may lie; default
-    /// [`POLE_RANGE`] (30), above the band's top always [`POLE_RANGE`]. Two-dimensional data
+    /// How far below the band's bottom (a factor, >= 1; infinite: no bound) a pole of the
+    /// rational fit may lie; default [`POLE_RANGE`] (30), above the band's top always
+    /// [`POLE_RANGE`]. Two-dimensional data
     /// in finite depth take [`STRIP_FINITE_DEPTH_POLE_RANGE`] ([`pole_range_below`]): their
     /// damping tends to a constant as `omega -> 0`, a dashpot that only a slow pole can carry.
     pub pole_range_below: f64,
@@ -75,7 +76,8 @@ pub fn pole_range_below(depth: WaterDepth, strips: bool) -> f64 {
 }
 
 /// [`FitParams::pole_range_below`] for 2D data in finite depth: `1e6` (the slowest pole
-/// measured, 8.4e-6 rad/s below a band from 0.71 rad/s, is 8.4e4 below it).
+/// vector fitting proposed on the prismatic ship of `src/ship/depth_tests.rs`, 8.4e-6 rad/s
+/// below a band from 0.71 rad/s, lies 8.4e4 below it).
 pub const STRIP_FINITE_DEPTH_POLE_RANGE: f64 = 1e6;
 
 /// How the coupled form is fitted (module docs of [`crate::identify`]).

@@ -576,6 +576,28 @@ fn bad_input_gives_clear_errors() {
         },
     );
     assert!(e.contains("holds 0 frequency points"), "{e}");
+    // A bound below the band must be a factor >= 1 (infinite: none).
+    for bad in [f64::NAN, 0.5, -3.0] {
+        let e = err(
+            &data,
+            FitParams {
+                pole_range_below: bad,
+                ..series_chain()
+            },
+        );
+        assert!(
+            e.contains(&format!("pole_range_below must be >= 1, got {bad}")),
+            "{e}"
+        );
+    }
+    assert!(fit(
+        &data,
+        &FitParams {
+            pole_range_below: f64::INFINITY,
+            ..series_chain()
+        }
+    )
+    .is_ok());
     // A noise of the wrong size or with a negative entry is refused by name.
     for noise in [DMatrix::zeros(2, 2), DMatrix::from_element(1, 1, -1.0)] {
         let e = err(
