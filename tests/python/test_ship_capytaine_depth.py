@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import conftest
+from test_ship_capytaine import added_mass, damping, difference
 
 OMEGA = (0.25, 1.5, 8)
 DEPTH = 10.0
@@ -43,19 +44,6 @@ def runs(fmu_pack_binary):
 @pytest.fixture(scope="module")
 def shallow(runs):
     return runs[0]
-
-
-def added_mass(r, i):
-    return r["ours"][:, i, i].real, r["theirs"][:, i, i].real
-
-
-def damping(r, i):
-    return -r["omega"] * r["ours"][:, i, i].imag, -r["omega"] * r["theirs"][:, i, i].imag
-
-
-def difference(pair):
-    ours, theirs = pair
-    return (ours - theirs) / np.abs(theirs)
 
 
 def test_capytaine_in_finite_depth_passes_its_own_energy_check(shallow):
