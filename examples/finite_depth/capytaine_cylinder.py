@@ -40,6 +40,9 @@ import tempfile
 
 import numpy as np
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from linear_waves import group_velocity, wavenumber  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 RHO, G, R = 1025.0, 9.81, 1.0
 LENGTH = 40.0
@@ -59,25 +62,6 @@ def fmu_pack_default():
     if not target.is_absolute():
         target = ROOT / target
     return target / "release" / "fmu-pack"
-
-
-def wavenumber(omega, depth):
-    """The root k of omega^2 = g k tanh(k h) (omega^2 / g in deep water), by Newton's method."""
-    nu = omega * omega / G
-    if math.isinf(depth):
-        return nu
-    k = max(nu, math.sqrt(nu / depth))
-    for _ in range(60):
-        t = math.tanh(k * depth)
-        k -= (k * t - nu) / (t + k * depth * (1 - t * t))
-    return k
-
-
-def group_velocity(omega, depth):
-    k = wavenumber(omega, depth)
-    if math.isinf(depth):
-        return omega / (2 * k)
-    return omega / (2 * k) * (1 + 2 * k * depth / math.sinh(2 * k * depth))
 
 
 def read_table(path, modes_line="# modes:"):

@@ -50,6 +50,9 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from linear_waves import group_velocity, wavenumber  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SHIP = ROOT / "examples" / "ships" / "box_barge.xml"
 FIGURE = ROOT / "target" / "reports" / "figures" / "ship-capytaine.svg"  # --update-docs: docs/figures/
@@ -156,8 +159,7 @@ def energy_check(data, omegas, water_depth):
         directions = np.asarray(x.wave_direction.values, float)
         x = x.isel(wave_direction=[int(np.argmin(np.abs(directions - beta))) for beta in betas])
         k = float(wavenumber(w, water_depth))
-        kh2 = 0.0 if water_depth is None else 2 * k * water_depth
-        cg = w / (2 * k) * (1 + (kh2 / np.sinh(kh2) if kh2 else 0.0))
+        cg = float(group_velocity(w, water_depth))
         radiated = k / (8 * np.pi * RHO * G * cg) * 4 * np.trapezoid(np.abs(x.values) ** 2, betas)
         ratios.append(b / radiated)
     return np.array(ratios)
@@ -232,19 +234,6 @@ def compare(fmu_pack, omega=(0.2, 1.8, 16), headings=(90.0, 180.0), resolution=F
             "their_force": their_force, "our_seconds": our_seconds,
             "their_seconds": their_seconds, "panels": panels_3d, "our_panels": panels,
             "water_depth": water_depth, "their_energy": energy}
-
-
-def wavenumber(omegas, water_depth=None):
-    """The root k of omega^2 = g k tanh(k h) (omega^2 / g in deep water), by Newton's method."""
-    nu = np.asarray(omegas, float) ** 2 / G
-    if water_depth is None:
-        return nu
-    h = water_depth
-    k = np.maximum(nu, np.sqrt(nu / h))  # below the root, as tanh(kh) < 1 and tanh(kh) < kh
-    for _ in range(50):
-        t = np.tanh(k * h)
-        k = k - (k * t - nu) / (t + k * h * (1 - t * t))
-    return k
 
 
 def depth_title(water_depth):
